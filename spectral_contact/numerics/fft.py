@@ -1,0 +1,94 @@
+"""Real FFTs through pyfftw, planned once per size and reused.
+
+``RealFFT(n)`` owns aligned input/output buffers and two FFTW plans (r2c and c2r).  ``get_rfft(n)``
+returns a cached instance, so every solve on the same grid shares one pair of plans.  Wisdom is
+kept in-process (pyfftw keeps it) and can be exported with ``export_wisdom``.
+
+Convention (numpy's): forward f^_k = sum_j f_j exp(-2 pi i jk/n); backward divides by n.
+"""
+from __future__ import annotations
+
+import threading
+import time
+
+import numpy as np
+import pyfftw
+
+__all__ = ["RealFFT", "get_rfft", "plan_cache_info", "clear_plans"]
+
+_PLANNER_EFFORT = "FFTW_MEASURE"
+_lock = threading.Lock()
+_cache: dict[tuple[int, ...], "RealFFT"] = {}
+
+
+class RealFFT:
+    """A planned real-to-complex / complex-to-real transform pair along the last axis.
+
+    Parameters
+    ----------
+    shape : int or tuple of int
+        Real-space shape (the transform runs along the last axis; 2D shapes transform both axes).
+    """
+
+    def __init__(self, shape, planner_effort: str = _PLANNER_EFFORT):
+        shape = (int(shape),) if np.isscalar(shape) else tuple(int(s) for s in shape)
+        self.shape = shape
+        self.n = shape[-1]
+        kshape = shape[:-1] + (shape[-1] // 2 + 1,)
+        axes = tuple(range(-len(shape), 0))
+        t0 = time.perf_counter()
+        self._r = pyfftw.empty_aligned(shape, dtype="float64")
+        self._c = pyfftw.empty_aligned(kshape, dtype="complex128")
+        self._fwd = pyfftw.FFTW(self._r, self._c, axes=axes, direction="FFTW_FORWARD",
+                                flags=(planner_effort,), threads=1)
+        self._bwd = pyfftw.FFTW(self._c, self._r, axes=axes, direction="FFTW_BACKWARD",
+                                flags=(planner_effort, "FFTW_DESTROY_INPUT"), threads=1)
+        self.plan_time_s = time.perf_counter() - t0
+
+    def forward(self, a: np.ndarray) -> np.ndarray:
+        """rfft of a real array; returns a new complex array."""
+        self._r[...] = a
+        self._fwd.execute()
+        return self._c.copy()
+
+    def backward(self, c: np.ndarray) -> np.ndarray:
+        """irfft (normalised by the number of points) of a half spectrum; returns a new real array."""
+        self._c[...] = c
+        self._bwd.execute()
+        return self._r * (1.0 / np.prod(self.shape))
+
+    def apply(self, a: np.ndarray, symbol: np.ndarray) -> np.ndarray:
+        """Periodic convolution: irfft(symbol * rfft(a)), with one copy in and one out."""
+        self._r[...] = a
+        self._fwd.execute()
+        self._c *= symbol
+        self._bwd.execute()
+        return self._r * (1.0 / np.prod(self.shape))
+
+
+def get_rfft(shape) -> RealFFT:
+    """The cached plan pair for this shape (planned on first use)."""
+    key = (int(shape),) if np.isscalar(shape) else tuple(int(s) for s in shape)
+    with _lock:
+        plan = _cache.get(key)
+        if plan is None:
+            plan = _cache[key] = RealFFT(key)
+        return plan
+
+
+def plan_cache_info() -> dict:
+    """Shapes currently planned and their planning times [s]."""
+    return {k: v.plan_time_s for k, v in _cache.items()}
+
+
+def clear_plans() -> None:
+    with _lock:
+        _cache.clear()
+
+
+def export_wisdom():
+    return pyfftw.export_wisdom()
+
+
+def import_wisdom(wisdom) -> None:
+    pyfftw.import_wisdom(wisdom)
