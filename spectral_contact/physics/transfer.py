@@ -41,7 +41,8 @@ def _sinh_minus_x(x: np.ndarray) -> np.ndarray:
 
 def _scaled(k):
     """k = |k| as float array, e2 = exp(-2k), and Dp = 2 exp(-2k) D (never overflows)."""
-    k = np.abs(np.asarray(k, dtype=float))
+    # beyond 1e100 every exponential has underflowed: clip so that k * exp(-k) stays 0, not nan
+    k = np.minimum(np.abs(np.asarray(k, dtype=float)), 1e100)
     e2 = np.exp(-2.0 * k)
     Dp = 1.0 + e2 * e2 + 2.0 * e2 * (1.0 + 2.0 * k * k)
     return k, e2, Dp

@@ -1,0 +1,108 @@
+"""The front function: ``solve`` (in the spirit of scipy.integrate.solve_ivp).
+
+    >>> from spectral_contact import solve
+    >>> r = solve(load=200.0, mu=2.0)            # the paper's scene, SI inputs
+    >>> r.half_width_m, r.max_pressure * r.scene.stress_unit
+
+Methods are registered by name in ``METHODS``; models are "exact" (the paper's exact model:
+Amontons friction coupled into the contact) and "goodman" (frictionless pressure kept, friction
+loads the base only).
+"""
+from __future__ import annotations
+
+import math
+
+from .errors import InputError
+from .physics.scene import Scene
+from .result import ContactResult
+
+__all__ = ["solve", "METHODS", "MODELS", "check_tol"]
+
+MODELS = ("exact", "goodman")
+
+
+def _fft(scene, model, tol, grid_points, domain_length_h):
+    from .solvers.fft import solve_fft
+
+    return solve_fft(scene, model=model, tol=tol, grid_points=grid_points,
+                     domain_length=domain_length_h)
+
+
+def _abel(scene, model, tol, grid_points, domain_length_h):
+    from .numerics.abel import solve_abel
+
+    return solve_abel(scene, model=model, tol=tol, n_nodes=grid_points)
+
+
+METHODS = {"fft": _fft, "abel": _abel}
+
+
+def check_tol(tol) -> float:
+    try:
+        t = float(tol)
+    except (TypeError, ValueError):
+        raise InputError(f"tol must be a number in (0, 0.1); got {tol!r}") from None
+    if not (math.isfinite(t) and 0.0 < t < 0.1):
+        raise InputError(f"tol must be in (0, 0.1); got {tol}")
+    return t
+
+
+def solve(scene: Scene | None = None, *, model: str = "exact", method: str = "fft",
+          tol: float = 1e-4, grid_points: int | None = None, domain_length: float | None = None,
+          **params) -> ContactResult:
+    """Solve one sliding-cylinder scene.
+
+    Parameters
+    ----------
+    scene : Scene, optional
+        The scene (SI).  If omitted, built from ``params`` (``load`` [N/m], ``mu``, ``young``
+        [Pa], ``radius`` [m], ``thickness`` [m]) over the paper's defaults.
+    model : {"exact", "goodman"}
+    method : {"fft", "abel"}
+        "fft": spectral solver on a periodic grid (default).  "abel": the paper's Abel/Fredholm
+        formulation (an independent check).
+    tol : float
+        Relative accuracy target of a, contact centre, indentation and peak pressure, in (0, 0.1).
+    grid_points : int, optional
+        Fix the number of grid points (FFT) or Nystrom nodes (Abel) instead of choosing it.
+    domain_length : float, optional
+        Fix the FFT period [m] instead of choosing it from ``tol``.
+
+    Returns
+    -------
+    ContactResult
+        Dimensionless fields plus SI views; ``summary()`` gives the JSON record.
+
+    Raises
+    ------
+    InputError
+        A parameter out of range (the message names it and the accepted range).
+    ConvergenceError
+        A solver did not converge (carries the residual history).
+    """
+    if scene is None:
+        scene = Scene(**params)
+    elif params:
+        scene = scene.with_(**params)
+    if model not in MODELS:
+        raise InputError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
+    if method not in METHODS:
+        raise InputError(f"method must be one of {', '.join(METHODS)}; got {method!r}")
+    tol = check_tol(tol)
+    if grid_points is not None:
+        try:
+            grid_points = int(grid_points)
+        except (TypeError, ValueError):
+            raise InputError(f"grid_points must be an integer >= 64; got {grid_points!r}") from None
+        if grid_points < 64 or grid_points > 2**24:
+            raise InputError(f"grid_points must be in [64, 2^24]; got {grid_points}")
+    L_h = None
+    if domain_length is not None:
+        try:
+            L = float(domain_length)
+        except (TypeError, ValueError):
+            raise InputError(f"domain_length must be a length > 0 m; got {domain_length!r}") from None
+        if not (math.isfinite(L) and L > 0):
+            raise InputError(f"domain_length must be a finite length > 0 m; got {domain_length}")
+        L_h = L / scene.length_unit
+    return METHODS[method](scene, model, tol, grid_points, L_h)
