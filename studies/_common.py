@@ -1,0 +1,41 @@
+"""Shared plumbing of the studies: arguments, output folder, progress, table + CSV."""
+from __future__ import annotations
+
+import argparse
+import csv
+import sys
+import time
+from pathlib import Path
+
+
+def parse(argv, description: str, default_out: str):
+    p = argparse.ArgumentParser(description=description)
+    p.add_argument("--quick", action="store_true", help="small version (under a minute), for CI")
+    p.add_argument("--out", default=default_out, help=f"output folder (default {default_out})")
+    args = p.parse_args(argv)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    return args, out
+
+
+def progress(i: int, n: int, label: str, t0: float) -> None:
+    print(f"  [{i}/{n}] {label}  ({time.perf_counter() - t0:.1f} s)", file=sys.stderr, flush=True)
+
+
+def table(rows: list[dict], path: Path, title: str) -> None:
+    """Print rows as an aligned table and write them as CSV."""
+    cols = list(rows[0])
+    with path.open("w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=cols)
+        w.writeheader()
+        w.writerows(rows)
+
+    def fmt(v):
+        return f"{v:.4g}" if isinstance(v, float) else str(v)
+
+    width = {c: max(len(c), *(len(fmt(r[c])) for r in rows)) for c in cols}
+    print(title)
+    print("  ".join(c.rjust(width[c]) for c in cols))
+    for r in rows:
+        print("  ".join(fmt(r[c]).rjust(width[c]) for c in cols))
+    print(f"(written {path})")

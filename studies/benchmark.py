@@ -1,0 +1,113 @@
+"""Speed of the spectral solver: solve time and iterations against N, in FFT pairs.
+
+    python -m studies.benchmark [--quick] [--out DIR]
+
+For the paper's scene (P_L = 200 N/m, mu_d = 2): the automatic solve at tol 1e-4, then fixed
+grids N = 2^12 ... 2^20 on the automatic period.  Each time is the median of >= 5 warm runs
+(plans made beforehand, not timed); beside it, the median time of one pyfftw rfft/irfft pair of
+the same N measured in the same process, so the cost reads as FFT pairs per solve.  Writes
+benchmark.csv and benchmark.png.
+"""
+from __future__ import annotations
+
+import statistics
+import sys
+import time
+
+import numpy as np
+
+from spectral_contact import PAPER_SCENE, solve
+from spectral_contact.numerics.contact import Indenter, solve_contact
+from spectral_contact.numerics.fft import get_rfft
+from spectral_contact.numerics.grid import Grid
+
+from ._common import parse, progress, table
+
+
+def _median_time(fn, repeats: int) -> float:
+    fn()  # warm: plans, caches
+    ts = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        fn()
+        ts.append(time.perf_counter() - t)
+    return statistics.median(ts)
+
+
+def fft_pair_time(n: int, repeats: int = 21) -> float:
+    f = get_rfft(n)
+    a = np.random.default_rng(0).random(n)
+    sym = np.ones(n // 2 + 1, complex)
+    return _median_time(lambda: f.apply(a, sym), repeats)
+
+
+def main(argv=None) -> int:
+    args, out = parse(argv, __doc__.splitlines()[0], "out/benchmark")
+    scene = PAPER_SCENE
+    repeats = 5
+    exps = range(12, 15) if args.quick else range(12, 21)
+    rows = []
+    t0 = time.perf_counter()
+    # the automatic solve
+    r = solve(scene, tol=1e-4)
+    t_auto = _median_time(lambda: solve(scene, tol=1e-4), repeats)
+    pair = fft_pair_time(r.grid_points)
+    rows.append({"case": "auto tol=1e-4", "N": r.grid_points, "solve_ms": 1e3 * t_auto,
+                 "fft_pair_us": 1e6 * pair, "fft_pairs": r.info["fft_pairs"],
+                 "solve_in_fft_pairs": t_auto / pair, "active_set_its": r.iterations,
+                 "gmres_its": r.info["final_level_krylov_iterations"],
+                 "error_estimate": r.error_estimate})
+    L = r.domain_length
+    grid_center = r.center
+    indenter = [Indenter(0.0, scene.P)]
+    for i, e in enumerate(exps, 1):
+        n = 2**e
+        g = Grid.centered(n, L, grid_center)
+        sol = solve_contact(g, scene.mu, indenter)  # cold start from the Hertz guess
+        reps = repeats if e <= 18 else 3
+        t = _median_time(lambda: solve_contact(g, scene.mu, indenter), reps)
+        pair = fft_pair_time(n, 11 if e <= 18 else 5)
+        rows.append({"case": f"fixed N=2^{e}", "N": n, "solve_ms": 1e3 * t,
+                     "fft_pair_us": 1e6 * pair, "fft_pairs": sol.fft_pairs,
+                     "solve_in_fft_pairs": t / pair, "active_set_its": sol.iterations,
+                     "gmres_its": sol.krylov_iterations, "error_estimate": float("nan")})
+        progress(i, len(exps), f"N = 2^{e}: {1e3 * t:.1f} ms", t0)
+    table(rows, out / "benchmark.csv",
+          f"Paper scene (P_L = {scene.load:g} N/m, mu_d = {scene.mu:g}), period {L:.2f} h; "
+          f"medians of warm runs")
+    base = rows[1]
+    last = rows[-1]
+    print(f"GMRES iterations at N = {last['N']}: {last['gmres_its']} vs {base['gmres_its']} at "
+          f"N = {base['N']} (ratio {last['gmres_its'] / base['gmres_its']:.2f}); "
+          f"active-set iterations {last['active_set_its']} vs {base['active_set_its']}")
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fixed = rows[1:]
+        N = np.array([r_["N"] for r_ in fixed], float)
+        fig, ax = plt.subplots(1, 2, figsize=(9, 3.5))
+        ax[0].loglog(N, [r_["solve_ms"] for r_ in fixed], "o-", label="solve (cold start)")
+        ax[0].loglog(N, [r_["fft_pair_us"] / 1e3 for r_ in fixed], "s-", label="one FFT pair")
+        ref = fixed[0]["solve_ms"] * N * np.log(N) / (N[0] * np.log(N[0]))
+        ax[0].loglog(N, ref, "k:", label="N log N")
+        ax[0].set_xlabel("N")
+        ax[0].set_ylabel("time [ms]")
+        ax[0].legend(fontsize=8)
+        ax[1].semilogx(N, [r_["gmres_its"] for r_ in fixed], "o-", label="GMRES iterations")
+        ax[1].semilogx(N, [r_["active_set_its"] for r_ in fixed], "s-", label="active-set iterations")
+        ax[1].set_xlabel("N")
+        ax[1].set_ylim(bottom=0)
+        ax[1].legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(out / "benchmark.png", dpi=110)
+        plt.close(fig)
+    except Exception as exc:  # a plot must never lose the table
+        print(f"plot skipped: {exc}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
