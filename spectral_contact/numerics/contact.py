@@ -19,6 +19,7 @@ indentation d_m.  Surface sinking w = H p; gap = f - d + w.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 
@@ -57,6 +58,16 @@ class ContactSolution:
     history: list = field(default_factory=list)
 
 
+@lru_cache(maxsize=32)
+def _symbols(n: int, length: float, mu: float):
+    """H on the grid and 1/H (k = 0 left 0: the preconditioner clips low k anyway)."""
+    k = Grid(n, length).k
+    H = surface_compliance(k, mu)
+    Hinv = np.zeros_like(H)
+    Hinv[1:] = 1.0 / H[1:]
+    return H, Hinv
+
+
 def _owners(x, length, indenters):
     apex = np.array([ind.apex for ind in indenters])
     rel = x[:, None] - apex[None, :]
@@ -75,7 +86,7 @@ def solve_contact(grid: Grid, mu: float, indenters, *, p_init=None, rtol: float 
     """
     n, dx = grid.n, grid.dx
     fft = get_rfft(n)
-    H = surface_compliance(grid.k, mu)
+    H, Hinv_full = _symbols(n, grid.length, float(mu))
     owner, rel = _owners(grid.x, grid.length, indenters)
     curv = np.array([ind.curvature for ind in indenters])
     loads = np.array([ind.load for ind in indenters], dtype=float)
@@ -113,7 +124,7 @@ def solve_contact(grid: Grid, mu: float, indenters, *, p_init=None, rtol: float 
         widths = np.array([max(np.sum(own == m), 1) * dx for m in range(M)])
         # preconditioner: inverse symbol clipped below the lowest mode the widest contact holds
         kc = np.pi / widths[loaded].max()
-        Hinv = 1.0 / surface_compliance(np.maximum(grid.k, kc), mu)
+        Hinv = np.where(grid.k >= kc, Hinv_full, 1.0 / surface_compliance(np.array([kc]), mu)[0])
         buf = np.zeros(n)
 
         def matvec(v):
