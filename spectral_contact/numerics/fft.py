@@ -57,6 +57,7 @@ class RealFFT:
         self._bwd = pyfftw.FFTW(self._c, self._r, axes=axes, direction="FFTW_BACKWARD",
                                 flags=(planner_effort, "FFTW_DESTROY_INPUT"), threads=1)
         self.plan_time_s = time.perf_counter() - t0
+        self._scale = 1.0 / float(np.prod(shape))
 
     def forward(self, a: np.ndarray) -> np.ndarray:
         """rfft of a real array; returns a new complex array."""
@@ -68,7 +69,7 @@ class RealFFT:
         """irfft (normalised by the number of points) of a half spectrum; returns a new real array."""
         self._c[...] = c
         self._bwd.execute()
-        return self._r * (1.0 / np.prod(self.shape))
+        return self._r * self._scale
 
     def apply(self, a: np.ndarray, symbol: np.ndarray) -> np.ndarray:
         """Periodic convolution: irfft(symbol * rfft(a)), with one copy in and one out."""
@@ -76,7 +77,7 @@ class RealFFT:
         self._fwd.execute()
         self._c *= symbol
         self._bwd.execute()
-        return self._r * (1.0 / np.prod(self.shape))
+        return self._r * self._scale
 
 
 def get_rfft(shape) -> RealFFT:

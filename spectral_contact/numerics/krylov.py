@@ -33,10 +33,13 @@ def gmres(matvec, psolve, b, x0, rtol=1e-10, restart=60, maxiter=600):
             Z[j] = psolve(V[j])
             w = matvec(Z[j])
             its += 1
-            for i in range(j + 1):  # modified Gram-Schmidt
-                Hh[i, j] = w @ V[i]
-                w -= Hh[i, j] * V[i]
-            Hh[j + 1, j] = np.linalg.norm(w)
+            # classical Gram-Schmidt, twice (as stable as modified, but vectorised)
+            h = V[: j + 1] @ w
+            w -= h @ V[: j + 1]
+            h2 = V[: j + 1] @ w
+            w -= h2 @ V[: j + 1]
+            Hh[: j + 1, j] = h + h2
+            Hh[j + 1, j] = np.sqrt(w @ w)
             if Hh[j + 1, j] > 0:
                 V[j + 1] = w / Hh[j + 1, j]
             for i in range(j):  # previous Givens rotations
