@@ -18,7 +18,7 @@ from .result import ContactResult
 
 __all__ = ["solve", "METHODS", "MODELS", "check_tol"]
 
-MODELS = ("exact", "goodman")
+MODELS = ("exact", "goodman", "hertz", "auto")
 
 
 def _fft(scene, model, tol, grid_points, domain_length_h):
@@ -105,4 +105,12 @@ def solve(scene: Scene | None = None, *, model: str = "exact", method: str = "ff
         if not (math.isfinite(L) and L > 0):
             raise InputError(f"domain_length must be a finite length > 0 m; got {domain_length}")
         L_h = L / scene.length_unit
+    if model == "hertz":  # closed form, whatever the method
+        from .solvers.hertz import solve_hertz
+
+        return solve_hertz(scene, tol=tol, grid_points=grid_points, domain_length=L_h)
+    if model == "auto":  # cheapest model whose fitted error bound is below tol
+        from .solvers.auto import solve_auto
+
+        return solve_auto(scene, tol, method, grid_points, L_h, methods=METHODS)
     return METHODS[method](scene, model, tol, grid_points, L_h)

@@ -106,7 +106,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     p = sub.add_parser("solve", help="solve one scene (default: the paper's)")
     _add_scene_options(p)
-    p.add_argument("--model", choices=("exact", "goodman"), default="exact")
+    p.add_argument("--model", choices=("exact", "goodman", "hertz", "auto"), default="exact")
     p.add_argument("--method", choices=("fft", "abel"), default="fft")
     p.add_argument("--tol", type=float, default=1e-4, help="relative accuracy target, in (0, 0.1) (default 1e-4)")
     p.add_argument("--grid-points", type=int, default=None, help="fix N instead of choosing it from --tol")
