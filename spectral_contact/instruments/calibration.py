@@ -18,9 +18,10 @@ Methods
 ``method="ratio"`` (the paper's): A G = F^-1[(F{U} + n_U) / (F{sigma} + n_sigma)] with 2D FFTs.
 n_U and n_sigma are white noises (flat amplitude spectrum, random phases) added to both spectra,
 of amplitude ``floor`` (0.1: "10 times weaker") times the weakest *relevant* component of each
-spectrum.  For "xz" both spectra vanish identically on the line k_x = 0 (odd fields), where the ratio is
-floor/floor; with ``fill_zeros`` (default) those in-band values are replaced by the ring's
-pooled estimate sum U^ conj(sigma^) / sum |sigma^|^2 (and k = 0 by extrapolation in |k|^2).
+spectrum.  For "xz" both spectra vanish identically on the line k_x = 0 (odd fields), where
+the ratio is floor/floor; with ``fill_zeros`` (default) those in-band values are replaced by
+the ring's pooled estimate sum U^ conj(sigma^) / sum |sigma^|^2 (and k = 0 by extrapolation
+in |k|^2).
 The literal method (``fill_zeros=False``) leaves a random stripe there which, through the
 far-field condition, biased A_xz by about -28 % in our round trips.
 Relevant components form the band |k| < k_c, k_c the first ring of |k| where the rms of |F{U}|
@@ -30,28 +31,34 @@ axisymmetric construction, computed as a Hankel sum).  Both fields are tapered t
 zero over the outer half of r_max (cos^2) before the FFT: the steps at r_max otherwise leave a
 ~1e-5 high-|k| plateau in both spectra whose ratio (~A) puts a spike at r = 0.
 
-``method="wiener"`` (Tikhonov, automatic parameter): the unknown is the 2D transform of A G,
-constrained to be axisymmetric -- one value g_j per ring of |k| (width 2 pi / side) -- and the
-data are the measured profile points themselves, U(r_i) = sum_j K_ij g_j, where K_ij is the
-profile at r_i of F^-1[ring_j x F{sigma}] (exact linear map of the periodic 2D convolution, so
-U is never truncated or interpolated).  Penalty lambda ||A G||^2 (sum_j N_j g_j^2), lambda by
-generalized cross-validation (robust GCV of Lukas (2006) with gamma = 0.03, default; plain GCV
-under-smooths here because at low noise the residual is correlated model error) or, if
-``noise_sd_mV`` is given and ``parameter="discrepancy"``, by the discrepancy principle.
+``method="wiener"`` (Tikhonov, automatic parameter): the unknown is A G(r), piecewise linear
+on r_l = l dr with compact support ``support_m`` (default r_max / 2; G = 0 beyond), and the data
+are the measured profile points themselves: U(r_i) = sum_l K_il G_l, where column l is the
+profile along +x of F^-1[H_l F{sigma}], H_l the 2D transform (Hankel, by Gauss quadrature) of
+the l-th hat function, taken constant on fine rings of |k| (width pi / (2 side)), and F{sigma}
+the 2D FFT of the (untapered) stress field.  U is thus never truncated, tapered or
+interpolated, and G's far field (invisible to the data) is excluded by the support.  Penalty
+lambda Int |grad(A G)|^2 dA (it does not shrink the level, so it does not bias A); lambda by
+generalized cross-validation -- robust GCV (Lukas 2006) with gamma = 0.03, the default: plain
+GCV under-smooths here because at low noise the residual is correlated model error -- or, if
+``noise_sd_mV`` is given and ``parameter="discrepancy"``, by the discrepancy principle.  One
+SVD serves every lambda and every bootstrap replicate.
 
-Both: A = integral of A G over the plane (unit-integral G).  For "xz" the integrals of U and
-sigma vanish, so the k = 0 component is undetermined and G_xz is fixed up to a constant, chosen
-so that G vanishes far away (mean over 1.5 r_max < r < 2 r_max set to zero).  The radial output,
-at the data's radii, is the azimuthal average of the 2D G for "ratio" (it averages the floor's
-white noise down) and G along the +x axis for "wiener" (axisymmetric by construction).
+Both: A = integral of A G over the plane (unit-integral G).  "ratio" for "xz": the integrals of
+U and sigma vanish, so the k = 0 ratio is undetermined and G_xz is fixed up to a constant,
+chosen so that G vanishes far away (mean over 1.5 r_max < r < 2 r_max set to zero); "wiener"
+needs no such constant (compact support).  The radial output, at the data's radii, is the
+azimuthal average of the 2D G for "ratio" (it averages the floor's white noise down) and the
+basis values for "wiener".
 
 Uncertainty band: bootstrap over noise realisations -- ``n_boot`` synthetic data sets
 centre + noise, each deconvolved the same way (lambda re-chosen; new noise floors for "ratio");
-the band is the central ``level`` (0.95) interval of G(r) and of A.  Noise sd: ``noise_sd_mV``
-if given, else the GCV residual estimate ("wiener") or the profile's 4th-difference MAD
-estimate ("ratio").  Centre: the fitted profile U_fit for "wiener" (parametric bootstrap); the
-measured U itself for "ratio" (its forward fit is tapered), which adds the noise twice and so
-overstates the band by up to sqrt(2).  It measures the noise's effect, not the regularisation bias
+the band is the central ``level`` (0.95) interval of the replicates of G(r) and of A, taken
+about their median and placed on the estimate.  Noise sd: ``noise_sd_mV`` if given, else the
+GCV residual estimate ("wiener") or the profile's 4th-difference MAD estimate ("ratio").
+Centre: the fitted profile U_fit for "wiener" (parametric bootstrap); the measured U itself
+for "ratio" (the ratio does not smooth the data), which adds the noise twice and so overstates
+the band by up to sqrt(2).  The band measures the noise's effect, not the regularisation bias
 (the round-trip tests measure that).
 """
 from __future__ import annotations
@@ -230,6 +237,7 @@ class _Ratio:
         self.fill = bool(fill)
         self.g = grid
         self.Sh = grid.spectrum(S, taper=self.taper)
+        self.Sh_full = grid.spectrum(S)  # untapered: for the forward fit
         self.floor, self.relevant = floor, relevant
         self.noise_ring = _noise_ring_rms(grid, self.taper)
 
@@ -274,7 +282,7 @@ class _Ratio:
         if g.harmonic:
             AG = AG - AG[g.far].mean()
         A = float(AG.sum() * g.dx**2)
-        U_fit = g.real(g.fft.forward(AG) * g.dx**2 * self.Sh)[0, :g.m]
+        U_fit = g.real(g.fft.forward(AG) * g.dx**2 * self.Sh_full)[0, :g.m]
         return g.radial_average(AG), A, U_fit, {"eps_U": eps_U, "eps_sigma": eps_S,
                                                "k_c_per_m": float(j_c * 2.0 * np.pi / g.L)}
 
@@ -431,7 +439,7 @@ def calibrate(r_m, U_mV, sigma_Pa, component: str = "zz", method: str = "ratio",
         def replicate(Ub):
             AGb, Ab, _, _ = solver.solve(Ub, sd, rng)
             return AGb, Ab
-        centre = U  # the ratio's forward fit is tapered: perturb the data themselves
+        centre = U  # the ratio's forward fit is not a smoother: perturb the data themselves
     else:
         support = 0.5 * grid.r_max if support_m is None else float(support_m)
         if not (grid.dx * 4 <= support <= grid.r_max):
@@ -460,8 +468,14 @@ def calibrate(r_m, U_mV, sigma_Pa, component: str = "zz", method: str = "ratio",
             As.append(Ab)
     q = (0.5 * (1.0 - level), 0.5 * (1.0 + level))
     if Gs:
-        G_lo, G_hi = np.quantile(np.array(Gs), q, axis=0)
-        A_lo, A_hi = (float(v) for v in np.quantile(np.array(As), q))
+        # spread of the replicates about their median, placed on the estimate (the replicates
+        # of a regularised estimate are smoothed twice, so their own centre is biased)
+        Gb, Ab_ = np.array(Gs), np.array(As)
+        mG, mA = np.median(Gb, axis=0), float(np.median(Ab_))
+        qG = np.quantile(Gb, q, axis=0)
+        qA = np.quantile(Ab_, q)
+        G_lo, G_hi = G + (qG[0] - mG), G + (qG[1] - mG)
+        A_lo, A_hi = A + float(qA[0] - mA), A + float(qA[1] - mA)
     else:
         G_lo, G_hi, A_lo, A_hi = G.copy(), G.copy(), A, A
     info.update({"noise_sd_mV": sd, "noise_sd_given": noise_sd_mV is not None,
