@@ -1,0 +1,153 @@
+"""Measured MEMS profiles against the models (the paper's section "Discussion").
+
+Given measured sensor stresses S_zz(x), S_xz(x) on a uniform grid (x in the file's frame; the
+sensor-to-apex offset is unknown):
+
+1. Integral estimates (the paper's): P_L = Int S_zz dx, mu_d = Int S_xz dx / Int S_zz dx
+   (trapezoid rule over the file's window).
+2. Both models (exact, Goodman) solved at (P_L, mu_d) and seen through the sensor
+   (``sensor.sensor_view``).
+3. Offset: the x of the file at which the model's apex sits, by least squares on both
+   components together, J(o) = sum (E_zz - C_zz(x - o))^2 / sum E_zz^2 + (same for xz); a scan
+   at the data step then a bounded Brent refinement.  Fitted per model.
+4. chi = sqrt(sum (E - C)^2 / sum E^2) per component and model (the paper's measure).
+5. Direct fit: P_L, mu_d and the offset by nonlinear least squares (same objective, exact model,
+   solves on the grid of the first solve so the objective is smooth in the parameters), from
+   the integral estimates.
+
+Model curves outside the solver's periodic domain are taken as 0 (the domain extends several
+film thicknesses beyond the contact, where the base stresses have decayed below the tolerance).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["integral_estimates", "chi", "fit_offset", "compare_models", "fit_load_mu",
+           "model_view"]
+
+
+def integral_estimates(x_m, S_zz_Pa, S_xz_Pa):
+    """(P_L [N/m], mu_d) = (Int S_zz dx, Int S_xz dx / Int S_zz dx) by the trapezoid rule."""
+    P = float(np.trapezoid(S_zz_Pa, x_m))
+    Q = float(np.trapezoid(S_xz_Pa, x_m))
+    if not (P > 0 and math.isfinite(P)):
+        raise InputError(f"the integral of S_zz over the profile is {P:g} N/m; it must be > 0 "
+                         f"(S_zz is positive in compression)")
+    return P, Q / P
+
+
+def chi(E, C) -> float:
+    """sqrt(sum (E - C)^2 / sum E^2)."""
+    E = np.asarray(E, dtype=float)
+    den = float(np.sum(E * E))
+    return float(np.sqrt(np.sum((E - np.asarray(C)) ** 2) / den)) if den > 0 else float("inf")
+
+
+def model_view(result, apparatus=None):
+    """(x_m, S_zz_Pa, S_xz_Pa) of a solved model through the sensor, apex frame."""
+    from .sensor import sensor_view
+
+    v = sensor_view(result, apparatus=apparatus)
+    return np.asarray(result.x_m, dtype=float), v["S_zz_Pa"], v["S_xz_Pa"]
+
+
+def _shifted(xm, C, x, offset):
+    return np.interp(x - offset, xm, C, left=0.0, right=0.0)
+
+
+def _objective(x, Ezz, Exz, xm, Czz, Cxz, offset):
+    nz, nx = float(np.sum(Ezz**2)), float(np.sum(Exz**2))
+    rz = Ezz - _shifted(xm, Czz, x, offset)
+    rx = Exz - _shifted(xm, Cxz, x, offset)
+    return float(np.sum(rz**2) / nz + (np.sum(rx**2) / nx if nx > 0 else 0.0))
+
+
+def fit_offset(x, Ezz, Exz, xm, Czz, Cxz) -> float:
+    """Least-squares offset o (model apex at x = o in the file's frame)."""
+    from scipy.optimize import minimize_scalar
+
+    dx = float(x[1] - x[0])
+    span_m = float(xm[-1] - xm[0])
+    # apex positions that keep some overlap between the model's support and the data
+    lo = float(x[0] - 0.5 * span_m)
+    hi = float(x[-1] + 0.5 * span_m)
+    step = max(dx, (hi - lo) / 4000.0)
+    grid = np.arange(lo, hi + step, step)
+    J = np.array([_objective(x, Ezz, Exz, xm, Czz, Cxz, o) for o in grid])
+    i = int(np.argmin(J))
+    a, b = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
+    res = minimize_scalar(lambda o: _objective(x, Ezz, Exz, xm, Czz, Cxz, o), bounds=(a, b),
+                          method="bounded", options={"xatol": 1e-4 * dx})
+    return float(res.x) if res.fun <= J[i] else float(grid[i])
+
+
+def compare_models(x_m, S_zz_Pa, S_xz_Pa, scene, tol: float = 1e-4, apparatus=None,
+                   models=("exact", "goodman")) -> dict:
+    """Solve each model at ``scene`` and compare with the measured profiles.
+
+    Returns {model: {"result", "x_m", "S_zz_Pa", "S_xz_Pa", "offset_m", "chi_zz", "chi_xz"}}.
+    """
+    from ..api import solve
+
+    out = {}
+    for model in models:
+        r = solve(scene, model=model, tol=tol)
+        xm, czz, cxz = model_view(r, apparatus)
+        o = fit_offset(x_m, S_zz_Pa, S_xz_Pa, xm, czz, cxz)
+        out[model] = {"result": r, "x_m": xm, "S_zz_Pa": czz, "S_xz_Pa": cxz, "offset_m": o,
+                      "chi_zz": chi(S_zz_Pa, _shifted(xm, czz, x_m, o)),
+                      "chi_xz": chi(S_xz_Pa, _shifted(xm, cxz, x_m, o))}
+    return out
+
+
+def fit_load_mu(x_m, S_zz_Pa, S_xz_Pa, scene, offset0: float, model: str = "exact",
+                tol: float = 1e-4, apparatus=None, max_solves: int = 80) -> dict:
+    """Least-squares fit of (P_L, mu_d, offset) of ``model`` to the measured profiles, from
+    ``scene`` (its load and mu are the starting point) and ``offset0``.
+
+    Returns {"load_N_per_m", "mu", "offset_m", "chi_zz", "chi_xz", "solves", "x_m",
+    "S_zz_Pa", "S_xz_Pa"} (the last three: the fitted model curves, apex frame).
+    """
+    from scipy.optimize import least_squares
+
+    from ..api import solve
+
+    x = np.asarray(x_m, dtype=float)
+    Ezz, Exz = np.asarray(S_zz_Pa, float), np.asarray(S_xz_Pa, float)
+    nz = math.sqrt(float(np.sum(Ezz**2)))
+    nx = math.sqrt(float(np.sum(Exz**2))) or 1.0
+    first = solve(scene, model=model, tol=tol)
+    N, L = first.grid_points, first.domain_length * scene.length_unit
+    cache = {}
+    P0, mu0 = scene.load, scene.mu
+
+    def view(P, mu):
+        key = (round(P, 12), round(mu, 12))
+        if key not in cache:
+            if len(cache) >= max_solves:
+                raise InputError(f"fit of P_L and mu did not settle within {max_solves} solves")
+            r = solve(scene.with_(load=P, mu=mu), model=model, tol=tol, grid_points=N,
+                      domain_length=L)
+            cache[key] = model_view(r, apparatus)
+        return cache[key]
+
+    def residuals(p):
+        P, mu, o = P0 * math.exp(p[0]), p[1], p[2]
+        xm, czz, cxz = view(P, mu)
+        return np.concatenate([(Ezz - _shifted(xm, czz, x, o)) / nz,
+                               (Exz - _shifted(xm, cxz, x, o)) / nx])
+
+    h = scene.thickness
+    sol = least_squares(residuals, x0=[0.0, mu0, offset0], x_scale=[0.05, 0.05, 0.02 * h],
+                        diff_step=[1e-4, 1e-4 / max(abs(mu0), 1.0), 1e-5], method="trf",
+                        xtol=1e-8, ftol=1e-10, gtol=1e-10, max_nfev=40)
+    P, mu, o = P0 * math.exp(sol.x[0]), float(sol.x[1]), float(sol.x[2])
+    xm, czz, cxz = view(P, mu)
+    return {"load_N_per_m": P, "mu": mu, "offset_m": o,
+            "chi_zz": chi(Ezz, _shifted(xm, czz, x, o)),
+            "chi_xz": chi(Exz, _shifted(xm, cxz, x, o)),
+            "solves": len(cache) + 1, "x_m": xm, "S_zz_Pa": czz, "S_xz_Pa": cxz}

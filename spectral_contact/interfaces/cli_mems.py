@@ -1,0 +1,297 @@
+"""MEMS subcommands of the command line: ``compare`` and ``calibrate``.
+
+``register(subparsers)`` adds them to the main parser (``interfaces.cli``).  Each handler
+returns an exit status; input problems raise ``InputError`` (the main CLI prints one line and
+exits with status 2).  Every input is read and checked before any file is written.
+"""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["register", "COMPARE_JSON_KEYS", "CALIBRATE_JSON_KEYS"]
+
+COMPARE_JSON_KEYS = ("load_N_per_m", "mu", "offset_m", "chi_zz_exact", "chi_xz_exact",
+                     "chi_zz_goodman", "chi_xz_goodman", "fit_load_N_per_m", "fit_mu")
+CALIBRATE_JSON_KEYS = ("component", "method", "A_mV_per_bar", "A_lo_mV_per_bar",
+                       "A_hi_mV_per_bar", "noise_sd_mV", "points", "out")
+
+
+def _positive(name):
+    def conv(text):
+        try:
+            v = float(text)
+        except ValueError:
+            raise InputError(f"{name} must be a number > 0; got {text!r}") from None
+        if not (math.isfinite(v) and v > 0):
+            raise InputError(f"{name} must be a finite number > 0; got {text!r}")
+        return v
+    return conv
+
+
+def _writable(path, what):
+    """Check an output path before doing any work (its directory must exist)."""
+    if path is None:
+        return None
+    p = Path(path)
+    if p.is_dir():
+        raise InputError(f"{what} {path}: is a directory")
+    if not p.parent.exists() and str(p.parent) not in ("", "."):
+        raise InputError(f"{what} {path}: directory {p.parent} does not exist")
+    return p
+
+
+def register(subparsers) -> None:
+    """Add ``compare`` and ``calibrate`` to an argparse subparsers object."""
+    p = subparsers.add_parser(
+        "compare", help="compare measured MEMS profiles with the exact and Goodman models",
+        description="Extract P_L = Int S_zz dx and mu_d = Int S_xz / Int S_zz from a measured "
+                    "profile, solve both models, view them through the sensor, fit the "
+                    "sensor-apex offset, report chi per component and model; also fit P_L, "
+                    "mu_d and the offset directly (exact model).")
+    p.add_argument("measured", metavar="MEASURED.csv",
+                   help="columns x_m,S_zz_Pa,S_xz_Pa or x_m,U_zz_mV,U_xz_mV (uniform x)")
+    p.add_argument("--young", type=_positive("--young"), default=2.2e6, help="E [Pa] (2.2e6)")
+    p.add_argument("--radius", type=_positive("--radius"), default=0.130, help="R [m] (0.130)")
+    p.add_argument("--thickness", type=_positive("--thickness"), default=0.002,
+                   help="h [m] (0.002)")
+    p.add_argument("--a-zz", type=_positive("--a-zz"), default=19.00,
+                   help="A_zz [mV/bar] for U files (19.00)")
+    p.add_argument("--a-xz", type=_positive("--a-xz"), default=7.95,
+                   help="A_xz [mV/bar] for U files (7.95)")
+    p.add_argument("--apparatus-zz", metavar="G.csv", default=None,
+                   help="radial G_zz (columns r_m, G or G_per_m2) instead of the paper's")
+    p.add_argument("--apparatus-xz", metavar="G.csv", default=None,
+                   help="radial G_xz instead of the paper's")
+    p.add_argument("--tol", type=float, default=1e-4, help="solver tolerance (1e-4)")
+    p.add_argument("--no-fit", action="store_true", help="skip the direct fit of P_L, mu_d")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--plot", metavar="FILE.png", help="measured points and both models")
+    p.set_defaults(func=_cmd_compare)
+
+    p = subparsers.add_parser(
+        "calibrate", help="deconvolve the MEMS apparatus function from a rod-scan profile",
+        description="Radial profiles (r from 0, uniform): the measured output U and the "
+                    "computed base stress under the rod; returns G(r), A and a bootstrap band.")
+    p.add_argument("--measured", required=True, metavar="U.csv",
+                   help="columns r_m and U_zz_mV (or U_xz_mV)")
+    p.add_argument("--computed", metavar="SIGMA.csv", default=None,
+                   help="columns r_m and S_zz_Pa (compression > 0) or sigma_zz_Pa (model sign)"
+                        " (or the xz ones); default: the flat punch of --punch-load")
+    p.add_argument("--punch-load", type=_positive("--punch-load"), default=None,
+                   help="rod load P [N] of the scan, to compute sigma (no --computed)")
+    p.add_argument("--punch-radius", type=_positive("--punch-radius"), default=250e-6,
+                   help="rod radius [m] (250e-6)")
+    p.add_argument("--thickness", type=_positive("--thickness"), default=0.002,
+                   help="film thickness h [m] (0.002)")
+    p.add_argument("--component", choices=("zz", "xz"), default="zz")
+    p.add_argument("--method", choices=("ratio", "wiener"), default="wiener",
+                   help="ratio: the paper's Fourier ratio with noise floors; wiener: Tikhonov "
+                        "with robust GCV (default)")
+    p.add_argument("--noise-sd", type=float, default=None, help="noise sd of U [mV] (estimated)")
+    p.add_argument("--n-boot", type=int, default=40, help="bootstrap realisations (40)")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--out", metavar="FILE.csv", help="write the radial apparatus function")
+    p.add_argument("--plot", metavar="FILE.png", help="A G(r) with its band, and the U fit")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=_cmd_calibrate)
+
+
+# --- compare --------------------------------------------------------------------------------
+
+def _apparatus(args):
+    from ..instruments.apparatus import load_apparatus_csv
+
+    gzz = load_apparatus_csv(args.apparatus_zz) if args.apparatus_zz else None
+    gxz = load_apparatus_csv(args.apparatus_xz) if args.apparatus_xz else None
+    return None if gzz is None and gxz is None else (gzz, gxz)
+
+
+def _cmd_compare(args) -> int:
+    from ..api import check_tol
+    from ..instruments.compare import compare_models, fit_load_mu, integral_estimates
+    from ..physics.scene import Scene
+    from .measured_io import read_measured_profile
+
+    tol = check_tol(args.tol)
+    plot = _writable(args.plot, "--plot")
+    prof = read_measured_profile(args.measured)
+    apparatus = _apparatus(args)
+    Szz, Sxz = prof.stresses(args.a_zz, args.a_xz)
+    P, mu = integral_estimates(prof.x_m, Szz, Sxz)
+    scene = Scene(load=P, mu=mu, young=args.young, radius=args.radius, thickness=args.thickness)
+    models = compare_models(prof.x_m, Szz, Sxz, scene, tol=tol, apparatus=apparatus)
+    ex, go = models["exact"], models["goodman"]
+    fit = None
+    if not args.no_fit:
+        fit = fit_load_mu(prof.x_m, Szz, Sxz, scene, ex["offset_m"], tol=tol,
+                          apparatus=apparatus)
+    nan = float("nan")
+    rec = {"load_N_per_m": P, "mu": mu, "offset_m": ex["offset_m"],
+           "chi_zz_exact": ex["chi_zz"], "chi_xz_exact": ex["chi_xz"],
+           "chi_zz_goodman": go["chi_zz"], "chi_xz_goodman": go["chi_xz"],
+           "fit_load_N_per_m": fit["load_N_per_m"] if fit else nan,
+           "fit_mu": fit["mu"] if fit else nan,
+           "offset_goodman_m": go["offset_m"],
+           "fit_offset_m": fit["offset_m"] if fit else nan,
+           "fit_chi_zz": fit["chi_zz"] if fit else nan,
+           "fit_chi_xz": fit["chi_xz"] if fit else nan,
+           "points": int(prof.x_m.size), "input": prof.kind,
+           "young_Pa": args.young, "radius_m": args.radius, "thickness_m": args.thickness}
+    if plot is not None:
+        _plot_compare(plot, prof, Szz, Sxz, models, fit, rec)
+    if args.json:
+        print(json.dumps({k: (None if isinstance(v, float) and not math.isfinite(v) else v)
+                          for k, v in rec.items()}, indent=2))
+    else:
+        mm = 1e3
+        lines = [
+            f"{prof.path}: {prof.x_m.size} points, x from {prof.x_m[0] * mm:g} to "
+            f"{prof.x_m[-1] * mm:g} mm ({'stresses' if prof.kind == 'S' else 'outputs'})",
+            f"  integral estimates   P_L = {P:.4g} N/m, mu_d = {mu:.4g}",
+            f"  exact model          offset {ex['offset_m'] * mm:8.4f} mm   "
+            f"chi_zz {ex['chi_zz']:.4f}   chi_xz {ex['chi_xz']:.4f}",
+            f"  Goodman model        offset {go['offset_m'] * mm:8.4f} mm   "
+            f"chi_zz {go['chi_zz']:.4f}   chi_xz {go['chi_xz']:.4f}",
+        ]
+        if fit:
+            lines.append(
+                f"  direct fit (exact)   P_L = {fit['load_N_per_m']:.4g} N/m, "
+                f"mu_d = {fit['mu']:.4g}, offset {fit['offset_m'] * mm:.4f} mm, "
+                f"chi_zz {fit['chi_zz']:.4f}, chi_xz {fit['chi_xz']:.4f}")
+        print("\n".join(lines))
+    return 0
+
+
+def _plot_compare(path, prof, Szz, Sxz, models, fit, rec):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    mm, kPa = 1e3, 1e-3
+    x = prof.x_m
+    step = max(1, x.size // 300)
+    fig, axes = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
+    styles = {"exact": ("-", "C0"), "goodman": ("--", "C3")}
+    for ax, E, key, label in ((axes[0], Szz, "S_zz_Pa", "S_zz [kPa] (+ compression)"),
+                              (axes[1], Sxz, "S_xz_Pa", "S_xz [kPa]")):
+        ax.plot(x[::step] * mm, E[::step] * kPa, "o", ms=3, mfc="none", color="k",
+                label="measured")
+        for name, m in models.items():
+            ls, c = styles.get(name, ("-", None))
+            sel = (m["x_m"] + m["offset_m"] >= x[0]) & (m["x_m"] + m["offset_m"] <= x[-1])
+            comp = "chi_zz" if key == "S_zz_Pa" else "chi_xz"
+            ax.plot((m["x_m"][sel] + m["offset_m"]) * mm, m[key][sel] * kPa, ls, color=c,
+                    label=f"{name} model (chi {m[comp]:.3f})")
+        if fit:
+            sel = (fit["x_m"] + fit["offset_m"] >= x[0]) & (fit["x_m"] + fit["offset_m"] <= x[-1])
+            ax.plot((fit["x_m"][sel] + fit["offset_m"]) * mm, fit[key][sel] * kPa, ":",
+                    color="C2", label="exact, fitted P_L, mu_d")
+        ax.axhline(0.0, color="0.7", lw=0.5)
+        ax.set_ylabel(label)
+        ax.legend(fontsize=7)
+    axes[0].set_title(f"{Path(prof.path).name}: P_L = {rec['load_N_per_m']:.4g} N/m, "
+                      f"mu_d = {rec['mu']:.4g} (integral estimates)", fontsize=9)
+    axes[1].set_xlabel("x [mm] (file frame)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+# --- calibrate ------------------------------------------------------------------------------
+
+def _same_grid(r_meas, r_comp, values, name):
+    if r_comp.size == r_meas.size and np.allclose(r_comp, r_meas, rtol=0, atol=1e-9 * r_meas[-1]):
+        return values
+    if r_comp[0] > r_meas[0] + 1e-12 or r_comp[-1] < r_meas[-1] * (1 - 1e-9):
+        raise InputError(f"{name}: radii {r_comp[0]:g}..{r_comp[-1]:g} m do not cover the "
+                         f"measured profile's {r_meas[0]:g}..{r_meas[-1]:g} m")
+    from scipy.interpolate import CubicSpline
+
+    return CubicSpline(r_comp, values)(r_meas)
+
+
+def _cmd_calibrate(args) -> int:
+    from ..instruments.calibration import calibrate
+    from .measured_io import read_radial_profile
+
+    out = _writable(args.out, "--out")
+    plot = _writable(args.plot, "--plot")
+    if args.n_boot < 0:
+        raise InputError(f"--n-boot must be >= 0; got {args.n_boot}")
+    comp = args.component
+    r, U, _ = read_radial_profile(args.measured, (f"U_{comp}_mV",))
+    if args.computed:
+        rc, vals, col = read_radial_profile(args.computed, (f"S_{comp}_Pa", f"sigma_{comp}_Pa"))
+        S = vals if (comp == "xz" or col.startswith("S_")) else -vals  # compression > 0
+        S = _same_grid(r, rc, S, args.computed)
+        source = args.computed
+    elif args.punch_load:
+        from ..instruments.axisym import flat_punch_base_stresses
+
+        b = flat_punch_base_stresses(args.punch_load, args.punch_radius, args.thickness,
+                                     dx_m=float(r[1] - r[0]), r_max_m=float(r[-1]))
+        S = -b["sigma_zz_Pa"] if comp == "zz" else b["sigma_xz_Pa"]
+        S = S[:r.size]
+        source = (f"flat punch P = {args.punch_load:g} N, a = {args.punch_radius:g} m, "
+                  f"h = {args.thickness:g} m")
+    else:
+        raise InputError("calibrate: give --computed SIGMA.csv or --punch-load P")
+    cal = calibrate(r, U, S, comp, args.method, noise_sd_mV=args.noise_sd, n_boot=args.n_boot,
+                    seed=args.seed)
+    if out is not None:
+        from .files import write_csv
+
+        write_csv(out, cal.columns(),
+                  f"spectral_contact calibrate: G_{comp} (unit integral over the plane), "
+                  f"method {args.method}\n"
+                  f"A_{comp} = {cal.A_mV_per_bar:.6g} mV/bar (band {cal.A_lo:.6g} .. "
+                  f"{cal.A_hi:.6g}, {cal.info['level']:.0%}, {cal.info['n_boot']} bootstrap "
+                  f"realisations)\nmeasured {args.measured}; computed: {source}")
+    if plot is not None:
+        _plot_calibration(plot, cal, r, U)
+    rec = {"component": comp, "method": args.method, "A_mV_per_bar": cal.A_mV_per_bar,
+           "A_lo_mV_per_bar": cal.A_lo, "A_hi_mV_per_bar": cal.A_hi,
+           "noise_sd_mV": cal.info["noise_sd_mV"], "points": int(r.size),
+           "out": str(out) if out else None}
+    if args.json:
+        print(json.dumps(rec, indent=2))
+    else:
+        print(f"G_{comp} by {args.method}: A_{comp} = {cal.A_mV_per_bar:.5g} mV/bar "
+              f"(band {cal.A_lo:.5g} .. {cal.A_hi:.5g}); G(0) = {cal.G[0]:.4g} 1/m^2; "
+              f"noise sd {cal.info['noise_sd_mV']:.3g} mV" + (f"; wrote {out}" if out else ""))
+    return 0
+
+
+def _plot_calibration(path, cal, r, U):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    mm = 1e3
+    fig, axes = plt.subplots(2, 1, figsize=(7, 6))
+    A = cal.A_mV_per_bar
+    ax = axes[0]
+    ax.fill_between(cal.r_m * mm, A * cal.G_lo / 1e6, A * cal.G_hi / 1e6, color="C0", alpha=0.3,
+                    label=f"{cal.info['level']:.0%} band")
+    ax.plot(cal.r_m * mm, A * cal.G / 1e6, "C0-", label=f"A G_{cal.component} ({cal.method})")
+    ax.set_ylabel("A G [mV/bar/mm^2]")
+    ax.set_title(f"A_{cal.component} = {A:.4g} mV/bar ({cal.A_lo:.4g} .. {cal.A_hi:.4g})",
+                 fontsize=9)
+    ax.legend(fontsize=8)
+    ax = axes[1]
+    ax.plot(r * mm, U, "ko", ms=3, mfc="none", label="measured U")
+    ax.plot(cal.r_m * mm, cal.U_fit_mV, "C1-", label="A G (*) sigma")
+    ax.set_xlabel("r [mm]")
+    ax.set_ylabel(f"U_{cal.component} [mV]")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
