@@ -124,15 +124,18 @@ def sensor_view(result, A_zz_mV_per_bar: float = A_ZZ_MV_PER_BAR,
                 A_xz_mV_per_bar: float = A_XZ_MV_PER_BAR, apparatus=None) -> dict:
     """Sensor view of a ``ContactResult`` on ``result.x`` (apex frame).
 
-    The FFT solver's grid is one period of a periodic field, so the convolution is circular
-    (exact on that grid).  Returns {"S_zz_Pa", "S_xz_Pa", "U_zz_mV", "U_xz_mV"}: S in Pa
+    A periodic solver grid (FFT, closed form: n dx = domain_length) is convolved circularly
+    (exact on that grid); other abscissae (Abel nodes) with the fields taken as zero outside.  Returns {"S_zz_Pa", "S_xz_Pa", "U_zz_mV", "U_xz_mV"}: S in Pa
     (S_zz > 0 in compression), U in mV.
     """
     x = np.asarray(result.x_m, dtype=float)
     szz, sxz = result.base_sigma_zz_Pa, result.base_sigma_xz_Pa
     d = np.diff(x)
     if x.size >= 4 and np.all(d > 0) and np.ptp(d) <= 1e-6 * d.mean():
-        periodic = getattr(result, "method", "fft") == "fft"
+        # one period of a periodic grid (FFT and closed-form solvers): n dx equals the period;
+        # node sets with both ends (Abel) span (n - 1) dx and are convolved with zero padding
+        L = float(getattr(result, "domain_length", 0.0) or 0.0) * result.scene.length_unit
+        periodic = L > 0 and abs(x.size * d.mean() - L) <= 1e-9 * L
         return sensor_profiles(x, szz, sxz, A_zz_mV_per_bar, A_xz_mV_per_bar, apparatus,
                                periodic=periodic)
     # non-uniform abscissae (e.g. quadrature nodes): resample, convolve (zero outside), return
