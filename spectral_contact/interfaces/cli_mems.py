@@ -127,10 +127,15 @@ def _cmd_compare(args) -> int:
     scene = Scene(load=P, mu=mu, young=args.young, radius=args.radius, thickness=args.thickness)
     models = compare_models(prof.x_m, Szz, Sxz, scene, tol=tol, apparatus=apparatus)
     ex, go = models["exact"], models["goodman"]
-    fit = None
+    fit, fit_note = None, "skipped (--no-fit)" if args.no_fit else "ok"
     if not args.no_fit:
-        fit = fit_load_mu(prof.x_m, Szz, Sxz, scene, ex["offset_m"], tol=tol,
-                          apparatus=apparatus)
+        from ..errors import ConvergenceError
+
+        try:
+            fit = fit_load_mu(prof.x_m, Szz, Sxz, scene, ex["offset_m"], tol=tol,
+                              apparatus=apparatus)
+        except (ConvergenceError, InputError) as exc:  # the comparison itself stands
+            fit_note = f"failed: {exc}".splitlines()[0]
     nan = float("nan")
     rec = {"load_N_per_m": P, "mu": mu, "offset_m": ex["offset_m"],
            "chi_zz_exact": ex["chi_zz"], "chi_xz_exact": ex["chi_xz"],
@@ -141,7 +146,7 @@ def _cmd_compare(args) -> int:
            "fit_offset_m": fit["offset_m"] if fit else nan,
            "fit_chi_zz": fit["chi_zz"] if fit else nan,
            "fit_chi_xz": fit["chi_xz"] if fit else nan,
-           "points": int(prof.x_m.size), "input": prof.kind,
+           "fit_note": fit_note, "points": int(prof.x_m.size), "input": prof.kind,
            "young_Pa": args.young, "radius_m": args.radius, "thickness_m": args.thickness}
     if plot is not None:
         _plot_compare(plot, prof, Szz, Sxz, models, fit, rec)
@@ -159,7 +164,9 @@ def _cmd_compare(args) -> int:
             f"  Goodman model        offset {go['offset_m'] * mm:8.4f} mm   "
             f"chi_zz {go['chi_zz']:.4f}   chi_xz {go['chi_xz']:.4f}",
         ]
-        if fit:
+        if not fit:
+            lines.append(f"  direct fit           {fit_note}")
+        else:
             lines.append(
                 f"  direct fit (exact)   P_L = {fit['load_N_per_m']:.4g} N/m, "
                 f"mu_d = {fit['mu']:.4g}, offset {fit['offset_m'] * mm:.4f} mm, "
