@@ -1,0 +1,412 @@
+"""Peers: the frictionless contact against ContactMechanics and tamaas, on the same grid.
+
+    python -m studies.peers [--quick] [--out DIR]
+
+The peers are optional (``pip install contactmechanics tamaas``); each one that is missing is
+reported "absent" and the study still does what it can (exit status 0).
+
+Two cases, frictionless (mu_d = 0: neither peer has Amontons coupling):
+
+A. "film": the paper's scene at mu_d = 0 (a/h_hertz = 1.68), the film on its rigid base.
+   Peer: ContactMechanics ``PeriodicFFTElasticHalfSpace`` with ``thickness`` = h (Carbone &
+   Mangialardi's layer on a rigid flat) and poisson = 0.499999 (its q = 0 stiffness is
+   E (1-nu)/((1-2nu)(1+nu)) / h, infinite at nu = 1/2; ours is H(0) = 0).  Its finite-thickness
+   Green's function is implemented for 2D grids only (a 1D grid ignores ``thickness``: it is
+   the half-space line contact), so the film runs on a y-invariant strip of ny = 1 point (one
+   qy = 0 mode: exactly the line contact) of unit length in y, with the load per unit length.
+   With nu -> 1/2 its layer factor (3-4nu) cosh 2q + 2q^2 + ... is the paper's D/(sinh 2k - 2k)
+   = 1/F0, so the two compliances are the same symbol.
+B. "thick film vs half-space": a/h_hertz = 0.02 (0.05 with --quick).  Peers: tamaas
+   ``model_type.basic_1d`` (1D periodic half-space, plane strain: Westergaard kernel) with its
+   Polonsky-Keer-Rey solver, and ContactMechanics on a 1D grid (half-space).  They solve the
+   half-space, we solve the film: the expected difference is the film's, ~0.5 (a/h)^2 in a.
+
+Same scene, same grid: our automatic solve at ``tol`` fixes the period L and the number of
+points N (its final level); every solver, ours included (``numerics.contact.solve_contact``,
+cold start), then solves on that grid.  Units: ours (lengths h, stresses E h/6R = G h/2R,
+displacements h^2/2R, profile x^2): E = 3, nu = 1/2 (E* = 4) for the peers, so that all
+compliances are F0/(2|k|) (film) or 1/(2|k|) (half-space).
+
+Convergence: each solver's own test, set to ~1e-10 relative (ours: GMRES/active-set rtol 1e-10;
+ContactMechanics: pentol = 1e-10 d, forcetol = 1e-10 p_max dx, thermotol = 1e-10; tamaas:
+tolerance 1e-10 on its own error).  Because those tests differ, one common measure is also
+reported for every solution: ``residual`` = the largest of the gap on the contact nodes, the
+penetration off it (both / the indentation) and the load error, computed with the solver's own
+operator (film or half-space symbol) from its pressure.  Time: median of 3 warm runs of the
+solve call only; iterations: ours active-set (GMRES matvecs), ContactMechanics CG iterations,
+tamaas PKR iterations (read from its log).  Ours starts from its default Hertz guess,
+the peers from zero (their defaults).  Compared: half-width from the contact nodes
+(N_contact dx / 2, the same rule for all; ours also sub-grid), peak pressure, and
+max |p - p_ours| / max p_ours.  Writes peers.csv and peers.png.
+"""
+from __future__ import annotations
+
+import math
+import os
+import re
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+from spectral_contact import Scene, solve
+from spectral_contact.numerics.contact import Indenter, solve_contact
+from spectral_contact.numerics.fft import get_rfft
+from spectral_contact.numerics.grid import Grid
+from spectral_contact.physics.film import surface_compliance
+from spectral_contact.solvers.hertz import hertz_half_width, hertz_pressure
+
+from ._common import parse, progress, table
+
+RTOL = 1e-10
+REPEATS = 3
+
+
+def peers_available() -> dict:
+    """name -> version string, or 'absent (reason)'."""
+    out = {}
+    try:
+        import ContactMechanics
+
+        out["ContactMechanics"] = getattr(ContactMechanics, "__version__", "?")
+    except Exception as exc:  # ImportError or a broken install: report, never fail
+        out["ContactMechanics"] = f"absent ({type(exc).__name__}: {exc})"
+    try:
+        import tamaas
+
+        out["tamaas"] = getattr(tamaas, "__version__", "?")
+    except Exception as exc:
+        out["tamaas"] = f"absent ({type(exc).__name__}: {exc})"
+    return out
+
+
+def present(versions, name) -> bool:
+    return not versions[name].startswith("absent")
+
+
+def scene_for(s: float, mu: float, base: Scene = Scene()) -> Scene:
+    P = 2 * math.pi * s**2
+    return base.with_(load=P * base.stress_unit * base.length_unit, mu=mu)
+
+
+def common_residual(grid: Grid, p: np.ndarray, P: float, symbol: np.ndarray) -> float:
+    """The same convergence measure for every solution: gap on the contact nodes and penetration
+    off them (relative to the indentation), load error; with the operator ``symbol`` (w^ =
+    symbol p^, the sinking)."""
+    w = get_rfft(grid.n).apply(p, symbol)
+    f = grid.x**2
+    act = p > 0
+    if not act.any():
+        return float("inf")
+    d = float(np.mean((f + w)[act]))
+    g = f + w - d
+    scale = max(abs(d), 1e-300)
+    gap = float(np.max(np.abs(g[act]))) / scale
+    pen = float(max(0.0, -g[~act].min(initial=0.0))) / scale
+    load = abs(float(np.sum(p)) * grid.dx - P) / P
+    return max(gap, pen, load)
+
+
+def halfspace_symbol(grid: Grid) -> np.ndarray:
+    k = grid.k
+    s = np.zeros_like(k)
+    s[1:] = 1.0 / (2.0 * k[1:])
+    return s
+
+
+def _row(case, solver, version, grid, P, p, t, its, cost, symbol, p_ref, a_sub=float("nan"),
+         t_ref=None, p_hertz=None, note=""):
+    dx = grid.dx
+    return {
+        "case": case, "solver": solver, "version": version, "N": grid.n, "L_h": grid.length,
+        "time_ms": 1e3 * t, "time_ratio": (t / t_ref) if t_ref else (1.0 if t == t else t),
+        "iterations": its, "fft_pairs": cost,
+        "a_nodes": float(np.count_nonzero(p > 0) * dx / 2), "a_subgrid": a_sub,
+        "p_max": float(p.max()), "dp_rel": float(np.max(np.abs(p - p_ref)) / p_ref.max()),
+        "dp_hertz": (float(np.max(np.abs(p - p_hertz)) / p_hertz.max()) if p_hertz is not None
+                     else float("nan")),
+        "residual": common_residual(grid, p, P, symbol), "note": note,
+    }
+
+
+# --- solvers on a given grid: each a runner doing one cold solve, timing the solve call only ---
+def ours_runner(grid: Grid, P: float):
+    ind = [Indenter(0.0, P)]
+
+    def run():
+        t = time.perf_counter()
+        sol = solve_contact(grid, 0.0, ind, rtol=RTOL)
+        dt = time.perf_counter() - t
+        return {"p": sol.pressure, "t": dt, "its": f"{sol.iterations} ({sol.krylov_iterations})",
+                "cost": sol.fft_pairs, "note": "", "sol": sol}
+    return run
+
+
+def contactmechanics_runner(grid: Grid, P: float, film: bool, d_scale: float, p_scale: float):
+    from ContactMechanics import PeriodicFFTElasticHalfSpace
+    from ContactMechanics.Optimization import constrained_conjugate_gradients
+
+    n, L = grid.n, grid.length
+    if film:  # layer Green's function exists for 2D grids only: y-invariant strip, ny = 1
+        sub = PeriodicFFTElasticHalfSpace((n, 1), 3.0, physical_sizes=(L, 1.0), thickness=1.0,
+                                          poisson=0.499999)
+        heights = (-(grid.x**2))[:, None]
+        force = P * 1.0
+    else:     # 1D: half-space, young is the contact modulus E* when poisson is not given
+        from SurfaceTopography import UniformLineScan
+
+        sub = PeriodicFFTElasticHalfSpace((n,), 4.0, physical_sizes=(L,))
+        heights = UniformLineScan(-(grid.x**2), L, periodic=True)
+        force = P
+    kw = dict(external_force=force, pentol=RTOL * d_scale,
+              forcetol=RTOL * p_scale * sub.area_per_pt, thermotol=RTOL, maxiter=100000)
+
+    def run():
+        t = time.perf_counter()
+        res = constrained_conjugate_gradients(sub, heights, **kw)
+        dt = time.perf_counter() - t
+        return {"p": np.asarray(res.jac).reshape(n) / sub.area_per_pt, "t": dt,
+                "its": int(res.nit), "cost": int(res.nfev),
+                "note": "" if res.success else "not converged"}
+    return run
+
+
+def _run_capturing_output(fn):
+    """Run fn with the process's fds 1 and 2 sent to a temporary file (tamaas logs from C++)."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    saved = {fd: os.dup(fd) for fd in (1, 2)}
+    with tempfile.TemporaryFile() as tmp:
+        for fd in (1, 2):
+            os.dup2(tmp.fileno(), fd)
+        try:
+            out = fn()
+        finally:
+            sys.stdout.flush()
+            sys.stderr.flush()
+            for fd, s in saved.items():
+                os.dup2(s, fd)
+                os.close(s)
+        tmp.seek(0)
+        text = tmp.read().decode(errors="replace")
+    return out, text
+
+
+def tamaas_runner(grid: Grid, P: float):
+    import tamaas as tm
+
+    n, L = grid.n, grid.length
+    heights = -(grid.x**2)
+
+    def solve_once(log: bool):
+        """A fresh model and solver (cold start); times the solve call only."""
+        tm.set_log_level(tm.LogLevel.info if log else tm.LogLevel.error)
+        model = tm.ModelFactory.createModel(tm.model_type.basic_1d, [L], [n])
+        model.E, model.nu = 3.0, 0.5  # E* = E/(1-nu^2) = 4: compliance 1/(2|k|)
+        solver = tm.PolonskyKeerRey(model, heights, RTOL)
+        solver.max_iter = 100000
+        if log:
+            solver.dump_freq = 1
+        t = time.perf_counter()
+        err = solver.solve(P / L)  # mean pressure
+        dt = time.perf_counter() - t
+        return np.asarray(model.traction, dtype=float).reshape(n), float(err), dt
+
+    its = None
+    try:  # the iteration count, from its log (a separate, untimed solve)
+        _, text = _run_capturing_output(lambda: solve_once(True))
+        nums = [int(m.group(1)) for m in re.finditer(r"^\s*(\d+)\s+\S+\s+\S+\s*$", text, re.M)]
+        its = max(nums) if nums else None
+    except Exception:  # the count is a nicety; never lose the comparison for it
+        its = None
+    finally:
+        tm.set_log_level(tm.LogLevel.error)
+
+    def run():
+        p, err, dt = solve_once(False)
+        return {"p": p, "t": dt, "its": its if its is not None else "n/a", "cost": "n/a",
+                "note": f"own error {err:.1e}"}
+    return run
+
+
+def time_round_robin(runners: dict, repeats: int = REPEATS) -> dict:
+    """Warm every runner, then run them in turn ``repeats`` times; keep each one's last result
+    with its fastest time (interleaving and the minimum make the ratios robust to the load of a
+    shared machine)."""
+    out = {}
+    for name, run in runners.items():
+        out[name] = run()
+    best = {name: float("inf") for name in runners}
+    for _ in range(repeats):
+        for name, run in runners.items():
+            res = run()
+            best[name] = min(best[name], res["t"])
+            out[name] = res
+    for name in runners:
+        out[name]["t"] = best[name]
+    return out
+
+
+# --- the cases --------------------------------------------------------------------------------
+def run_case(case, scene, tol, versions, halfspace: bool):
+    """Our automatic solve fixes (L, N); every solver then runs on that grid.  Case A (film):
+    ContactMechanics' layer.  Case B (halfspace=True): also the half-space peers (tamaas,
+    ContactMechanics 1D) and the Hertz closed form, with dp_hertz = their distance from it."""
+    r = solve(scene, tol=tol)
+    grid = Grid(r.grid_points, r.domain_length, float(r.x[0]))
+    P = scene.P
+    film_sym = surface_compliance(grid.k, 0.0).real
+    hs_sym = halfspace_symbol(grid)
+    p_hertz = hertz_pressure(grid.x, hertz_half_width(P)) if halfspace else None
+    OURS = "spectral_contact (film)"
+    first = ours_runner(grid, P)()
+    d_scale, p_scale = float(first["sol"].indentations[0]), float(first["p"].max())
+
+    specs = [("ContactMechanics film (2D strip, ny=1)", "ContactMechanics",
+              lambda: contactmechanics_runner(grid, P, True, d_scale, p_scale), film_sym)]
+    if halfspace:
+        specs += [("ContactMechanics half-space (1D)", "ContactMechanics",
+                   lambda: contactmechanics_runner(grid, P, False, d_scale, p_scale), hs_sym),
+                  ("tamaas half-space (basic_1d, PKR)", "tamaas",
+                   lambda: tamaas_runner(grid, P), hs_sym)]
+    runners = {OURS: ours_runner(grid, P)}
+    symbols = {OURS: film_sym}
+    missing = {}
+    for name, pkg, make, sym in specs:
+        if not present(versions, pkg):
+            missing[name] = _absent(case, name, pkg, versions, grid)
+            continue
+        try:
+            run = make()
+            run()  # a peer's failure is reported, never fatal
+        except Exception as exc:
+            missing[name] = _failed(case, name, pkg, versions, grid, exc)
+            continue
+        runners[name], symbols[name] = run, sym
+    res = time_round_robin(runners)
+    p0, t0 = res[OURS]["p"], res[OURS]["t"]
+    curves = {}
+    rows = []
+    for name, _, _, _ in [(OURS, None, None, None)] + specs:
+        if name in missing:
+            rows.append(missing[name])
+            continue
+        r_ = res[name]
+        curves[name] = r_["p"]
+        extra = {"a_sub": r.half_width, "note": f"auto solve at tol {tol:g}: a = {r.half_width:.6g}"} \
+            if name == OURS else {"t_ref": t0, "note": r_["note"]}
+        rows.append(_row(case, name, "this" if name == OURS else versions[
+            "tamaas" if name.startswith("tamaas") else "ContactMechanics"], grid, P, r_["p"],
+            r_["t"], r_["its"], r_["cost"], symbols[name], p0, p_hertz=p_hertz, **extra))
+    if halfspace:
+        curves["Hertz closed form (half-space)"] = p_hertz
+        rows.append(_row(case, "Hertz closed form (half-space)", "-", grid, P, p_hertz,
+                         float("nan"), "-", "-", hs_sym, p0, p_hertz=p_hertz,
+                         note="sampled p = 4 sqrt(a^2 - x^2)"))
+    return rows, grid, curves
+
+
+def _blank(case, solver, version, grid, note):
+    nan = float("nan")
+    return {"case": case, "solver": solver, "version": version, "N": grid.n, "L_h": grid.length,
+            "time_ms": nan, "time_ratio": nan, "iterations": "-", "fft_pairs": "-",
+            "a_nodes": nan, "a_subgrid": nan, "p_max": nan, "dp_rel": nan, "dp_hertz": nan,
+            "residual": nan,
+            "note": note}
+
+
+def _absent(case, name, pkg, versions, grid):
+    return _blank(case, name, "absent", grid, versions[pkg])
+
+
+def _failed(case, name, pkg, versions, grid, exc):
+    print(f"  {name} failed: {type(exc).__name__}: {exc}", file=sys.stderr)
+    return _blank(case, name, versions[pkg], grid, f"failed: {type(exc).__name__}: {exc}"[:120])
+
+
+def _plot(cases, path):
+    """Top: the pressures of every solver; bottom: their difference from ours."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(2, len(cases), figsize=(6 * len(cases), 6.5), squeeze=False)
+    for col, (title, grid, curves) in enumerate(cases):
+        x = grid.x
+        p0 = next(iter(curves.values()))
+        sel = p0 > 0
+        lo, hi = x[sel].min(), x[sel].max()
+        w = hi - lo
+        m = (x > lo - 0.3 * w) & (x < hi + 0.3 * w)
+        for k, (name, p) in enumerate(curves.items()):
+            axes[0, col].plot(x[m], p[m], lw=1.2, ls=("-", "--", ":", "-.")[k % 4], label=name)
+            if k:
+                axes[1, col].plot(x[m], (p - p0)[m] / p0.max(), lw=1.0, label=name)
+        axes[0, col].set_title(f"{title}: N = {grid.n}, L = {grid.length:.3g} h", fontsize=9)
+        axes[0, col].set_ylabel("p  [E h / 6R]")
+        axes[0, col].legend(fontsize=7)
+        axes[1, col].set_xlabel("x / h")
+        axes[1, col].set_ylabel("(p - p_ours) / max p_ours")
+        if len(curves) > 1:
+            axes[1, col].legend(fontsize=7)
+        else:
+            axes[1, col].text(0.5, 0.5, "peers absent", ha="center", transform=axes[1, col].transAxes)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def main(argv=None) -> int:
+    args, out = parse(argv, __doc__.splitlines()[0], "out/peers")
+    versions = peers_available()
+    for name, v in versions.items():
+        print(f"{name}: {v}")
+    absent = [n for n in versions if not present(versions, n)]
+    if absent:
+        print(f"peers absent: {', '.join(absent)} -- their rows say so; install with "
+              f"`pip install contactmechanics tamaas` (or the 'peers' extra)")
+    tol = 1e-3 if args.quick else 1e-4
+    s_thick = 0.05 if args.quick else 0.02
+    t0 = time.perf_counter()
+    rows, plots = [], []
+    specs = [("A film", Scene(mu=0.0), False),
+             (f"B thick film a/h={s_thick:g}", scene_for(s_thick, 0.0), True)]
+    for i, (case, scene, halfspace) in enumerate(specs, 1):
+        r_rows, grid, curves = run_case(case, scene, tol, versions, halfspace)
+        rows += r_rows
+        progress(i, len(specs), f"{case}: N = {grid.n}", t0)
+        plots.append((case, grid, curves))
+    table(rows, out / "peers.csv",
+          f"Frictionless contact, same grid per case (our automatic solve at tol {tol:g} sets L, N); "
+          f"dp_rel = max|p - p_ours| / max p_ours; residual = common convergence measure")
+    for case in dict.fromkeys(r["case"] for r in rows):
+        cr = [r for r in rows if r["case"] == case]
+        base = cr[0]
+        for r in cr[1:]:
+            if r["version"] == "-":
+                print(f"{case}: Hertz closed form (half-space): a_nodes {r['a_nodes']:.6g}; ours "
+                      f"(film) differs from it by {r['dp_rel']:.2e} of p_max (the film's effect)")
+            elif r["version"] == "absent":
+                print(f"{case}: {r['solver']} absent -- not compared")
+            elif r["note"].startswith("failed"):
+                print(f"{case}: {r['solver']} {r['note']}")
+            else:
+                print(f"{case}: {r['solver']} takes {r['time_ratio']:.3g}x our time "
+                      f"({r['time_ms']:.3g} ms vs {base['time_ms']:.3g} ms), "
+                      f"{r['iterations']} iterations vs our {base['iterations']}; "
+                      f"a_nodes {r['a_nodes']:.6g} vs {base['a_nodes']:.6g}; "
+                      f"pressures agree to {r['dp_rel']:.2e} of p_max"
+                      + (f" (to the Hertz closed form: {r['dp_hertz']:.2e})"
+                         if r["dp_hertz"] == r["dp_hertz"] else ""))
+    try:
+        _plot(plots, out / "peers.png")
+        print(f"(written {out / 'peers.png'})")
+    except Exception as exc:  # a plot must never lose the table
+        print(f"plot skipped: {exc}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
