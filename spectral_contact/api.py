@@ -64,9 +64,11 @@ def solve(scene: Scene | None = None, *, model: str = "exact", method: str = "ff
     tol : float
         Relative accuracy target of a, contact centre, indentation and peak pressure, in (0, 0.1).
     grid_points : int, optional
-        Fix the number of grid points (FFT) or Nystrom nodes (Abel) instead of choosing it.
+        Fix the number of grid points (FFT, 64 ... 2^24) or Nystrom nodes (Abel, 2 ... 400)
+        instead of choosing it from ``tol``.
     domain_length : float, optional
-        Fix the FFT period [m] instead of choosing it from ``tol``.
+        Fix the FFT period [m] instead of choosing it from ``tol`` (FFT only; the Abel method
+        needs no domain).
 
     Returns
     -------
@@ -90,12 +92,14 @@ def solve(scene: Scene | None = None, *, model: str = "exact", method: str = "ff
         raise InputError(f"method must be one of {', '.join(METHODS)}; got {method!r}")
     tol = check_tol(tol)
     if grid_points is not None:
+        # FFT grid points, or Nystrom nodes for the Abel method
+        lo, hi = (2, 400) if method == "abel" else (64, 2**24)
         try:
             grid_points = int(grid_points)
         except (TypeError, ValueError):
-            raise InputError(f"grid_points must be an integer >= 64; got {grid_points!r}") from None
-        if grid_points < 64 or grid_points > 2**24:
-            raise InputError(f"grid_points must be in [64, 2^24]; got {grid_points}")
+            raise InputError(f"grid_points must be an integer in [{lo}, {hi}]; got {grid_points!r}") from None
+        if not lo <= grid_points <= hi:
+            raise InputError(f"grid_points must be in [{lo}, {hi}] for method {method}; got {grid_points}")
     L_h = None
     if domain_length is not None:
         try:
