@@ -77,12 +77,15 @@ def _owners(x, length, indenters):
 
 
 def solve_contact(grid: Grid, mu: float, indenters, *, p_init=None, rtol: float = 1e-10,
-                  max_outer: int = 200, max_krylov: int = 2000) -> ContactSolution:
+                  accept: float | None = None, max_outer: int = 200,
+                  max_krylov: int = 2000) -> ContactSolution:
     """Solve the contact problem on ``grid`` for friction ``mu`` and the given indenters.
 
     p_init : optional initial pressure on the grid (its support is the first active set);
              by default a Hertz-like guess for each loaded indenter.
-    rtol   : relative tolerance of the inner linear solves and of the final residual check.
+    rtol   : relative tolerance (2-norm) of the inner linear solves.
+    accept : largest final residual (max-norm, relative: gap, penetration, tension, load)
+             accepted; default max(1e3 rtol, 1e-8).  Beyond it ConvergenceError is raised.
     """
     n, dx = grid.n, grid.dx
     fft = get_rfft(n)
@@ -122,6 +125,10 @@ def solve_contact(grid: Grid, mu: float, indenters, *, p_init=None, rtol: float 
         own = owner[idx]
         ni = idx.size
         widths = np.array([max(np.sum(own == m), 1) * dx for m in range(M)])
+        # weight of each load row: its right-hand side as large as the whole gap block's, so
+        # GMRES's 2-norm stopping test controls the load as tightly as the gap
+        gap_norm = max(np.linalg.norm(f[idx]), 1e-300)
+        wload = np.where(loaded, gap_norm / np.where(loaded, loads, 1.0), 1.0)
         # preconditioner: inverse symbol clipped below the lowest mode the widest contact holds
         kc = np.pi / widths[loaded].max()
         Hinv = np.where(grid.k >= kc, Hinv_full, 1.0 / surface_compliance(np.array([kc]), mu)[0])
@@ -133,7 +140,7 @@ def solve_contact(grid: Grid, mu: float, indenters, *, p_init=None, rtol: float 
             w = Hp(buf)
             out = np.empty_like(v)
             out[:ni] = w[idx] - v[ni:][own]
-            out[ni:] = dx * np.bincount(own, weights=v[:ni], minlength=M) / widths
+            out[ni:] = dx * np.bincount(own, weights=v[:ni], minlength=M) * wload
             return out
 
         def psolve(r):
@@ -145,7 +152,7 @@ def solve_contact(grid: Grid, mu: float, indenters, *, p_init=None, rtol: float 
             z[ni:] = r[ni:]
             return z
 
-        b = np.concatenate([-f[idx], np.where(loaded, loads, 0.0) / widths])
+        b = np.concatenate([-f[idx], np.where(loaded, loads, 0.0) * wload])
         v0 = np.concatenate([p[idx], d])
         v, its, rel_res = gmres(matvec, psolve, b, v0, rtol=rtol, maxiter=max_krylov)
         krylov_total += its
@@ -155,16 +162,19 @@ def solve_contact(grid: Grid, mu: float, indenters, *, p_init=None, rtol: float 
         d[~loaded] = 0.0
         w = Hp(p)
         gap = f - d[owner] + w
-        new = ((active & (p > 0)) | (~active & (gap < 0))) & can_touch
+        # keep nodes with p >= 0: a node just added by a tiny penetration may keep p = 0
+        # exactly when the warm-started GMRES has nothing to do (drop only tensile nodes)
+        new = ((active & (p >= 0)) | (~active & (gap < 0))) & can_touch
         history.append((int(active.sum()), float(rel_res), its))
         if np.array_equal(new, active):
             break
         key = new.tobytes()
-        if key in seen:  # cycling between sets (degenerate edge node): change one side only
-            new = active & (p > 0)
-            if np.array_equal(new, active):
-                new = active | (gap < 0) & can_touch
-        seen[key] = outer
+        if key in seen:
+            # cycling between sets: a degenerate edge node, slightly penetrating when inactive
+            # and slightly tensile when active.  Stop here; the residual check below accepts
+            # the state only if that violation is negligible, and raises otherwise.
+            break
+        seen[active.tobytes()] = outer
         for m in np.flatnonzero(loaded):
             if not np.any(new & (owner == m)):
                 sel = np.flatnonzero(owner == m)
@@ -189,7 +199,7 @@ def solve_contact(grid: Grid, mu: float, indenters, *, p_init=None, rtol: float 
         "linear": float(history[-1][1]),
     }
     residual = max(residuals.values())
-    if residual > max(1e3 * rtol, 1e-8):
+    if residual > (accept if accept is not None else max(1e3 * rtol, 1e-8)):
         raise ConvergenceError(
             f"contact solve ended with relative residual {residual:.2e} "
             f"({', '.join(f'{k} {v:.1e}' for k, v in residuals.items())}) after {outer} "
