@@ -73,7 +73,7 @@ class ContactResult:
     @property
     def x0(self) -> float:
         """The paper's x0: apex position relative to the contact centre (= -center), in h."""
-        return -self.center
+        return -self.center + 0.0
 
     @property
     def x_m(self):
@@ -120,7 +120,7 @@ class ContactResult:
             "thickness_m": s.thickness,
             "half_width_m": float(self.half_width * L),
             "contact_center_m": float(self.center * L),
-            "x0_m": float(-self.center * L),
+            "x0_m": float(-self.center * L) + 0.0,  # + 0.0: no "-0.0" for a centred contact
             "indentation_m": float(self.indentation * s.displacement_unit),
             "max_pressure_Pa": float(self.max_pressure * s.stress_unit),
             "max_pressure_x_m": float(self.max_pressure_x * L),

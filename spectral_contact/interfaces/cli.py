@@ -51,6 +51,8 @@ def _summary_text(r) -> str:
         j = int(np.argmax(np.abs(r.base_sigma_xz_Pa)))
         lines.append(f"  peak base sigma_zz       {r.base_sigma_zz_Pa[i] * kPa:10.4f} kPa at x = {r.x_m[i] * mm:.4f} mm")
         lines.append(f"  peak base sigma_xz       {r.base_sigma_xz_Pa[j] * kPa:10.4f} kPa at x = {r.x_m[j] * mm:.4f} mm")
+    if "auto_reason" in r.info:
+        lines.append(f"  auto: {r.info['auto_reason']}")
     lines.append(
         f"  grid {s['grid_points']} points over {s['domain_length_m'] * mm:.2f} mm, {s['iterations']} iterations, "
         f"residual {s['residual']:.1e}, error estimate {s['error_estimate']:.1e}, "

@@ -6,9 +6,10 @@ kept in-process (pyfftw keeps it) and can be exported with ``export_wisdom``.
 
 Convention (numpy's): forward f^_k = sum_j f_j exp(-2 pi i jk/n); backward divides by n.
 
-Planner effort: FFTW_ESTIMATE by default (planning costs microseconds; a transform pair is at
-most ~1.5x slower than with FFTW_MEASURE, whose planning costs ~1 s at N = 2^14 and ~40 s at
-2^20).  Set the environment variable SPECTRAL_CONTACT_FFTW=measure (or call
+Planner effort: FFTW_ESTIMATE by default (planning costs milliseconds; a transform pair is
+1.2-1.8x slower than with FFTW_MEASURE from N = 2^14 on, up to 2.9x seen at 2^18, and no
+slower below, while MEASURE planning costs ~0.4 s at 2^10 and 13-40 s at 2^18-2^20:
+studies/large_domain).  Set the environment variable SPECTRAL_CONTACT_FFTW=measure (or call
 ``set_planner_effort("FFTW_MEASURE")``) for long sweeps; measured plans are then stored as FFTW
 wisdom in ``~/.cache/spectral_contact/fftw_wisdom`` and reused by later runs.
 """
