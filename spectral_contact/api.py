@@ -5,8 +5,8 @@
     >>> r.half_width_m, r.max_pressure * r.scene.stress_unit
 
 Methods are registered by name in ``METHODS``; models are "exact" (the paper's exact model:
-Amontons friction coupled into the contact) and "goodman" (frictionless pressure kept, friction
-loads the base only).
+Amontons friction coupled into the contact), "goodman" (frictionless pressure kept, friction
+loads the base only), "hertz" (closed form) and "auto" (the cheapest adequate one).
 """
 from __future__ import annotations
 
@@ -57,7 +57,12 @@ def solve(scene: Scene | None = None, *, model: str = "exact", method: str = "ff
     scene : Scene, optional
         The scene (SI).  If omitted, built from ``params`` (``load`` [N/m], ``mu``, ``young``
         [Pa], ``radius`` [m], ``thickness`` [m]) over the paper's defaults.
-    model : {"exact", "goodman"}
+    model : {"exact", "goodman", "hertz", "auto"}
+        "exact": the paper's exact model (friction coupled into the contact); "goodman":
+        frictionless pressure and window, friction loads the base only; "hertz": closed-form
+        half-space Hertz pressure on the film (``method`` is not used); "auto": the cheapest of
+        the three whose fitted error bound at this scene is below ``tol``
+        (``result.info["auto_reason"]`` says which and why).
     method : {"fft", "abel"}
         "fft": spectral solver on a periodic grid (default).  "abel": the paper's Abel/Fredholm
         formulation (an independent check).
