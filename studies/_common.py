@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import statistics
 import sys
 import time
 from pathlib import Path
@@ -39,3 +40,15 @@ def table(rows: list[dict], path: Path, title: str) -> None:
     for r in rows:
         print("  ".join(fmt(r[c]).rjust(width[c]) for c in cols))
     print(f"(written {path})")
+
+
+def median_time(fn, repeats: int, warm: bool = False) -> float:
+    """Median wall time [s] of ``repeats`` calls of fn(); one untimed call first if ``warm``."""
+    if warm:
+        fn()
+    ts = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        fn()
+        ts.append(time.perf_counter() - t)
+    return statistics.median(ts)

@@ -10,7 +10,6 @@ benchmark.csv and benchmark.png.
 """
 from __future__ import annotations
 
-import statistics
 import sys
 import time
 
@@ -21,17 +20,11 @@ from spectral_contact.numerics.contact import Indenter, solve_contact
 from spectral_contact.numerics.fft import get_rfft
 from spectral_contact.numerics.grid import Grid
 
-from ._common import parse, progress, table
+from ._common import median_time, parse, progress, table
 
 
 def _median_time(fn, repeats: int) -> float:
-    fn()  # warm: plans, caches
-    ts = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t)
-    return statistics.median(ts)
+    return median_time(fn, repeats, warm=True)  # warm: plans, caches
 
 
 def fft_pair_time(n: int, repeats: int = 21) -> float:

@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import math
 import resource
-import statistics
 import sys
 import time
 import tracemalloc
@@ -47,7 +46,7 @@ from spectral_contact.numerics.fft import RealFFT, get_rfft
 from spectral_contact.numerics.grid import Grid
 from spectral_contact.physics.film import DECAY_RATE
 
-from ._common import parse, progress, table
+from ._common import median_time, parse, progress, table
 from .stability import short
 
 NAN = float("nan")
@@ -59,12 +58,7 @@ def _rss_mib() -> float:
 
 
 def _median_time(fn, repeats: int) -> float:
-    ts = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t)
-    return statistics.median(ts)
+    return median_time(fn, repeats)
 
 
 def pair_time(f, n: int, repeats: int) -> float:
