@@ -140,7 +140,8 @@ def main(argv=None) -> int:
     for v in vals:
         ex = results["surface_mu", v]["exact"]
         wrows.append({"load_N_per_m": fixed, "mu": v, "width_exact_mm": 2e3 * ex.half_width_m,
-                      "caption_exact_mm": 2 * 2.36, "width_goodman_mm": 2e3 * results["surface_mu", v]["goodman"].half_width_m,
+                      "caption_exact_mm": 2 * 2.36,
+                      "width_goodman_mm": 2e3 * results["surface_mu", v]["goodman"].half_width_m,
                       "caption_goodman_mm": float("nan"),
                       "hertz_width_mm": 2e3 * np.sqrt(ex.scene.P / (2 * np.pi)) * ex.scene.length_unit})
     table(wrows, out / "widths.csv",

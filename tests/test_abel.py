@@ -16,7 +16,11 @@ from spectral_contact.errors import ConvergenceError, InputError
 from spectral_contact.numerics import abel as abel_mod
 from spectral_contact.numerics.abel import AbelAccuracyWarning, abel_fields, solve_abel
 from spectral_contact.numerics.abel_kernels import (
-    aposteriori_kernels, gauss_legendre, legendre_log_weights, m_kernels, z_kernels,
+    aposteriori_kernels,
+    gauss_legendre,
+    legendre_log_weights,
+    m_kernels,
+    z_kernels,
 )
 from spectral_contact.physics.scene import Scene
 from spectral_contact.physics.transfer import F0_minus_1, transfer_functions

@@ -9,11 +9,14 @@ from scipy.integrate import quad
 from scipy.linalg import expm
 
 from spectral_contact.errors import InputError
-from spectral_contact.instruments.apparatus import (G_XZ, G_ZZ, GaussianFoot, TabulatedApparatus,
-                                                    load_apparatus_csv)
-from spectral_contact.instruments.axisym import (base_stresses_3d, flat_punch_base_stresses,
-                                                 flat_punch_transform, plane_grid,
-                                                 punch_sensitivity)
+from spectral_contact.instruments.apparatus import G_XZ, G_ZZ, GaussianFoot, TabulatedApparatus, load_apparatus_csv
+from spectral_contact.instruments.axisym import (
+    base_stresses_3d,
+    flat_punch_base_stresses,
+    flat_punch_transform,
+    plane_grid,
+    punch_sensitivity,
+)
 from spectral_contact.instruments.calibration import calibrate
 from spectral_contact.instruments.sensor import convolve_line, sensor_profiles, sensor_view
 from spectral_contact.interfaces.measured_io import read_measured_profile, read_radial_profile

@@ -31,7 +31,8 @@ is P sin(k a)/(k a) (used analytically, so the edge singularity is not sampled).
 layer (h = 2 mm = 8 a) the true punch pressure differs from it; since the base stresses are
 the load smoothed over ~h, the difference is small: replacing the punch distribution by a
 *uniform* pressure on the same disc -- a far larger change -- moves the base stresses by at
-most 0.8 % (sigma_zz) and 0.3 % (sigma_xz) of the peak |sigma_zz| (see ``punch_sensitivity``).  The paper's FE found the base stresses
+most 0.8 % (sigma_zz) and 0.3 % (sigma_xz) of the peak |sigma_zz| (see ``punch_sensitivity``).
+The paper's FE found the base stresses
 insensitive to the friction condition under the rod; we take it frictionless.
 """
 from __future__ import annotations

@@ -16,8 +16,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..numerics.fft import get_rfft
-from .apparatus import (A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR, PA_PER_BAR, ApparatusFunction,
-                        check_gain, default_apparatus)
+from .apparatus import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR, PA_PER_BAR, ApparatusFunction, check_gain, default_apparatus
 
 __all__ = ["sensor_view", "sensor_profiles", "convolve_line", "SENSOR_KEYS"]
 
@@ -125,8 +124,9 @@ def sensor_view(result, A_zz_mV_per_bar: float = A_ZZ_MV_PER_BAR,
     """Sensor view of a ``ContactResult`` on ``result.x`` (apex frame).
 
     A periodic solver grid (FFT, closed form: n dx = domain_length) is convolved circularly
-    (exact on that grid); other abscissae (Abel nodes) with the fields taken as zero outside.  Returns {"S_zz_Pa", "S_xz_Pa", "U_zz_mV", "U_xz_mV"}: S in Pa
-    (S_zz > 0 in compression), U in mV.
+    (exact on that grid); other abscissae (Abel nodes) with the fields taken as zero outside.
+    Returns {"S_zz_Pa", "S_xz_Pa", "U_zz_mV", "U_xz_mV"}: S in Pa (S_zz > 0 in compression),
+    U in mV.
     """
     x = np.asarray(result.x_m, dtype=float)
     szz, sxz = result.base_sigma_zz_Pa, result.base_sigma_xz_Pa

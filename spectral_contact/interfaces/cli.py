@@ -49,8 +49,8 @@ def _summary_text(r) -> str:
 
         i = int(np.argmin(r.base_sigma_zz_Pa))
         j = int(np.argmax(np.abs(r.base_sigma_xz_Pa)))
-        lines.append(f"  peak base sigma_zz       {r.base_sigma_zz_Pa[i] * kPa:10.4f} kPa at x = {r.x_m[i] * mm:.4f} mm")
-        lines.append(f"  peak base sigma_xz       {r.base_sigma_xz_Pa[j] * kPa:10.4f} kPa at x = {r.x_m[j] * mm:.4f} mm")
+        for name, field, m in (("zz", r.base_sigma_zz_Pa, i), ("xz", r.base_sigma_xz_Pa, j)):
+            lines.append(f"  peak base sigma_{name}       {field[m] * kPa:10.4f} kPa at x = {r.x_m[m] * mm:.4f} mm")
     if "auto_reason" in r.info:
         lines.append(f"  auto: {r.info['auto_reason']}")
     lines.append(

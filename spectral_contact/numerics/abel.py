@@ -77,7 +77,13 @@ from ..physics.scene import Scene
 from ..physics.transfer import transfer_functions
 from ..result import ContactResult
 from .abel_kernels import (
-    KMAX_M, KMAX_Z, aposteriori_kernels, gauss_legendre, k_rule, legendre_log_weights, m_kernels,
+    KMAX_M,
+    KMAX_Z,
+    aposteriori_kernels,
+    gauss_legendre,
+    k_rule,
+    legendre_log_weights,
+    m_kernels,
 )
 
 __all__ = ["solve_abel", "AbelAccuracyWarning", "COND_WARN", "abel_fields"]

@@ -28,7 +28,7 @@ def contact_runs(active: np.ndarray):
     d = np.diff(np.concatenate([[0], a.astype(np.int8), [0]]))
     firsts = np.flatnonzero(d == 1)
     lasts = np.flatnonzero(d == -1) - 1
-    return [((f + start) % n, (l + start) % n) for f, l in zip(firsts, lasts)]
+    return [((f + start) % n, (e + start) % n) for f, e in zip(firsts, lasts)]
 
 
 def _edge(x0, dx, gap_out, p_in, free):

@@ -31,7 +31,7 @@ _PLANNER_EFFORT = _EFFORTS.get(os.environ.get("SPECTRAL_CONTACT_FFTW", "estimate
                                "FFTW_ESTIMATE")
 WISDOM_FILE = Path.home() / ".cache" / "spectral_contact" / "fftw_wisdom"
 _lock = threading.Lock()
-_cache: dict[tuple[int, ...], "RealFFT"] = {}
+_cache: dict[tuple[int, ...], RealFFT] = {}
 
 
 class RealFFT:

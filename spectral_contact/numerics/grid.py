@@ -30,7 +30,7 @@ class Grid:
         """Non-negative wavenumbers of the real FFT half spectrum (1/h)."""
         return 2.0 * np.pi * np.fft.rfftfreq(self.n, self.dx)
 
-    def centered(n: int, length: float, center: float = 0.0) -> "Grid":
+    def centered(n: int, length: float, center: float = 0.0) -> Grid:
         """A grid of n points whose middle point sits at ``center``."""
         return Grid(n, length, center - (n // 2) * (length / n))
 

@@ -93,7 +93,7 @@ class Scene:
         """Dimensionless lineic load P = P_L 6R / (E h^2)."""
         return self.load / (self.stress_unit * self.length_unit)
 
-    def with_(self, **changes) -> "Scene":
+    def with_(self, **changes) -> Scene:
         """A copy with some parameters changed."""
         from dataclasses import replace
 

@@ -16,7 +16,8 @@ The bound (``studies/model_map.py`` fits and validates it)::
 with s_e = max(s, S_MIN) and mu_e = max(|mu|, MU_MIN) (0 when mu = 0).  Why this shape: with
 mu = 0 Goodman's model *is* the exact model (error 0); the friction coupling shifts the contact
 by x_c/a = mu s/pi (measured 0.318 mu s for s <~ 0.1: the film tilts under the load) and changes
-the base profiles by ~0.5 mu s^2, linearly in mu; the Hertz pressure misses the film's stiffening (a shrinks by ~0.5 s^2) and, like
+the base profiles by ~0.5 mu s^2, linearly in mu; the Hertz pressure misses the film's stiffening
+(a shrinks by ~0.5 s^2) and, like
 Goodman, the friction coupling.  Clamping s and |mu| up to the smallest sampled values keeps the
 bound conservative below the map (the errors grow with both); above the map (s > S_MAX or
 |mu| > MU_MAX) auto does not extrapolate: it picks the exact model.  When in doubt, exact.

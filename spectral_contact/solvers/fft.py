@@ -24,13 +24,13 @@ import time
 import numpy as np
 
 from ..errors import ConvergenceError, InputError
-from ..physics.film import DECAY_RATE, base_stresses
-from ..physics.scene import Scene
-from ..result import ContactResult
 from ..numerics.contact import Indenter, solve_contact
 from ..numerics.edges import fit_edges, peak
 from ..numerics.fft import get_rfft, plan_cache_info
 from ..numerics.grid import Grid
+from ..physics.film import DECAY_RATE, base_stresses
+from ..physics.scene import Scene
+from ..result import ContactResult
 
 __all__ = ["solve_fft", "MIN_POINTS", "MAX_POINTS"]
 
