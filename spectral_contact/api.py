@@ -69,7 +69,7 @@ def solve(scene: Scene | None = None, *, model: str = "exact", method: str = "ff
     tol : float
         Relative accuracy target of a, contact centre, indentation and peak pressure, in (0, 0.1).
     grid_points : int, optional
-        Fix the number of grid points (FFT, 64 ... 2^24) or Nystrom nodes (Abel, 2 ... 400)
+        Fix the number of grid points (FFT, 64 ... 2^24) or Nystrom nodes (Abel, 6 ... 2000)
         instead of choosing it from ``tol``.
     domain_length : float, optional
         Fix the FFT period [m] instead of choosing it from ``tol`` (FFT only; the Abel method
@@ -98,7 +98,7 @@ def solve(scene: Scene | None = None, *, model: str = "exact", method: str = "ff
     tol = check_tol(tol)
     if grid_points is not None:
         # FFT grid points, or Nystrom nodes for the Abel method
-        lo, hi = (2, 400) if method == "abel" else (64, 2**24)
+        lo, hi = (6, 2000) if method == "abel" else (64, 2**24)
         try:
             grid_points = int(grid_points)
         except (TypeError, ValueError):
