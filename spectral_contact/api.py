@@ -10,10 +10,8 @@ loads the base only), "hertz" (closed form) and "auto" (the cheapest adequate on
 """
 from __future__ import annotations
 
-import math
-
 from .errors import InputError
-from .physics.scene import Scene
+from .physics.scene import Scene, check_positive, check_tol
 from .result import ContactResult
 
 __all__ = ["solve", "METHODS", "MODELS", "check_tol"]
@@ -35,16 +33,6 @@ def _abel(scene, model, tol, grid_points, domain_length_h):
 
 
 METHODS = {"fft": _fft, "abel": _abel}
-
-
-def check_tol(tol) -> float:
-    try:
-        t = float(tol)
-    except (TypeError, ValueError):
-        raise InputError(f"tol must be a number in (0, 0.1); got {tol!r}") from None
-    if not (math.isfinite(t) and 0.0 < t < 0.1):
-        raise InputError(f"tol must be in (0, 0.1); got {tol}")
-    return t
 
 
 def solve(scene: Scene | None = None, *, model: str = "exact", method: str = "fft",
@@ -107,13 +95,7 @@ def solve(scene: Scene | None = None, *, model: str = "exact", method: str = "ff
             raise InputError(f"grid_points must be in [{lo}, {hi}] for method {method}; got {grid_points}")
     L_h = None
     if domain_length is not None:
-        try:
-            L = float(domain_length)
-        except (TypeError, ValueError):
-            raise InputError(f"domain_length must be a length > 0 m; got {domain_length!r}") from None
-        if not (math.isfinite(L) and L > 0):
-            raise InputError(f"domain_length must be a finite length > 0 m; got {domain_length}")
-        L_h = L / scene.length_unit
+        L_h = check_positive("domain_length", domain_length, "m") / scene.length_unit
     if model == "hertz":  # closed form, whatever the method
         from .solvers.hertz import solve_hertz
 

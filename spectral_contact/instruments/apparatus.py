@@ -42,11 +42,13 @@ Abel projection of that profile).
 from __future__ import annotations
 
 import math
+from abc import ABC, abstractmethod
 
 import numpy as np
 from scipy.special import j1
 
 from ..errors import InputError
+from ..physics.scene import check_positive
 
 __all__ = ["ApparatusFunction", "GaussianFoot", "TabulatedApparatus", "load_apparatus_csv",
            "G_ZZ", "G_XZ", "A_ZZ_MV_PER_BAR", "A_XZ_MV_PER_BAR", "PA_PER_BAR",
@@ -59,16 +61,10 @@ PA_PER_BAR = 1e5
 
 def check_gain(name: str, value) -> float:
     """A conversion constant [mV/bar]: finite and > 0."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a number > 0 mV/bar; got {value!r}") from None
-    if not (math.isfinite(v) and v > 0):
-        raise InputError(f"{name} must be a finite number > 0 mV/bar; got {v}")
-    return v
+    return check_positive(name, value, "mV/bar")
 
 
-class ApparatusFunction:
+class ApparatusFunction(ABC):
     """An axisymmetric apparatus function of unit integral over the plane.
 
     Methods (all SI): ``radial(r)`` [1/m^2], ``line(x)`` [1/m] (y-integrated form),
@@ -78,14 +74,17 @@ class ApparatusFunction:
 
     support_radius: float
 
+    @abstractmethod
     def radial(self, r):
-        raise NotImplementedError
+        """G(r) [1/m^2]."""
 
+    @abstractmethod
     def line(self, x):
-        raise NotImplementedError
+        """The y-integrated form [1/m]."""
 
+    @abstractmethod
     def transform(self, k):
-        raise NotImplementedError
+        """2D Fourier transform at |k| [1/m]."""
 
     def line_symbol(self, n: int, dx: float) -> np.ndarray:
         """Half-spectrum (rfft layout) of the line form on a periodic grid of n points, step dx,

@@ -73,7 +73,7 @@ import numpy as np
 from scipy.special import j0, j1
 
 from ..errors import ConvergenceError, InputError
-from ..physics.scene import Scene
+from ..physics.scene import Scene, check_tol
 from ..physics.transfer import transfer_functions
 from ..result import ContactResult
 from .abel_kernels import (
@@ -387,12 +387,7 @@ def solve_abel(scene: Scene, model: str = "exact", tol: float = 1e-4, n_nodes: i
         raise InputError(f"scene must be a Scene; got {type(scene).__name__}")
     if model not in MODELS:
         raise InputError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
-    try:
-        tol = float(tol)
-    except (TypeError, ValueError):
-        raise InputError(f"tol must be a number in (0, 0.1); got {tol!r}") from None
-    if not (math.isfinite(tol) and 0.0 < tol < 0.1):
-        raise InputError(f"tol must be in (0, 0.1); got {tol}")
+    tol = check_tol(tol)
     if n_nodes is not None:
         try:
             n_int = int(n_nodes)

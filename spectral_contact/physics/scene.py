@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 from ..errors import InputError
 
-__all__ = ["Scene", "PAPER_SCENE", "check_finite", "check_positive"]
+__all__ = ["Scene", "PAPER_SCENE", "check_finite", "check_positive", "check_tol"]
 
 
 def check_finite(name: str, value, accepted: str) -> float:
@@ -34,6 +34,17 @@ def check_positive(name: str, value, unit: str) -> float:
     if v <= 0.0:
         raise InputError(f"{name} must be > 0 {unit}; got {v}".replace("  ", " "))
     return v
+
+
+def check_tol(tol) -> float:
+    """A relative accuracy target: a number in (0, 0.1)."""
+    try:
+        t = float(tol)
+    except (TypeError, ValueError):
+        raise InputError(f"tol must be a number in (0, 0.1); got {tol!r}") from None
+    if not (math.isfinite(t) and 0.0 < t < 0.1):
+        raise InputError(f"tol must be in (0, 0.1); got {tol}")
+    return t
 
 
 @dataclass(frozen=True)
