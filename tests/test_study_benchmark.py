@@ -1,0 +1,22 @@
+import csv
+
+from spectral_contact.interfaces.cli import main
+
+
+def test_benchmark_quick_through_the_cli(tmp_path, capsys):
+    assert main(["study", "benchmark", "--quick", "--out", str(tmp_path)]) == 0
+    rows = list(csv.DictReader((tmp_path / "benchmark.csv").open()))
+    assert rows[0]["case"].startswith("auto") and len(rows) == 4
+    fixed = rows[1:]
+    for r in fixed:
+        assert float(r["solve_ms"]) > 0 and float(r["fft_pair_us"]) > 0
+        assert int(r["gmres_its"]) >= int(r["active_set_its"]) > 0
+    # the preconditioned iteration count does not grow materially with N
+    assert int(fixed[-1]["gmres_its"]) <= 2 * int(fixed[0]["gmres_its"])
+    assert (tmp_path / "benchmark.png").stat().st_size > 10_000
+    assert "GMRES iterations" in capsys.readouterr().out
+
+
+def test_unknown_study_exits_2(capsys):
+    assert main(["study", "nosuch"]) == 2
+    assert "unknown study" in capsys.readouterr().err
