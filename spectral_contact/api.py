@@ -93,7 +93,11 @@ def solve(scene: Scene | None = None, *, model: str = "exact", method: str = "ff
             raise InputError(f"grid_points must be an integer in [{lo}, {hi}]; got {grid_points!r}") from None
         if not lo <= grid_points <= hi:
             raise InputError(f"grid_points must be in [{lo}, {hi}] for method {method}; got {grid_points}")
+        if method == "fft" and grid_points % 2:
+            raise InputError(f"grid_points must be even for method fft (a power of two is fastest); got {grid_points}")
     L_h = None
+    if domain_length is not None and method != "fft":
+        raise InputError(f"domain_length applies to method fft only (method {method} needs no domain)")
     if domain_length is not None:
         L_h = check_positive("domain_length", domain_length, "m") / scene.length_unit
     if model == "hertz":  # closed form, whatever the method

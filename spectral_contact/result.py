@@ -119,7 +119,7 @@ class ContactResult:
             "radius_m": s.radius,
             "thickness_m": s.thickness,
             "half_width_m": float(self.half_width * L),
-            "contact_center_m": float(self.center * L),
+            "contact_center_m": float(self.center * L) + 0.0,
             "x0_m": float(-self.center * L) + 0.0,  # + 0.0: no "-0.0" for a centred contact
             "indentation_m": float(self.indentation * s.displacement_unit),
             "max_pressure_Pa": float(self.max_pressure * s.stress_unit),

@@ -37,8 +37,14 @@ def test_profiles_and_plot(tmp_path, capsys):
 @pytest.mark.parametrize("argv", [
     ["solve", "--young", "-1"], ["solve", "--load", "nan"], ["solve", "--tol", "0.2"],
     ["solve", "--radius", "abc"], ["solve", "--model", "foo"], ["nosuch"], ["solve", "--bogus"],
+    # found by review: these used to end in tracebacks
+    ["solve", "--grid-points", "65"], ["solve", "--domain-length", "0.004"],
+    ["solve", "--tol", "1e-15"], ["solve", "--load", "1e-12"], ["solve", "--plot", "x.txt"],
+    ["solve", "--method", "abel", "--domain-length", "0.01"],
 ])
-def test_bad_input_exits_2_with_one_line(argv, capsys):
-    assert main(argv) == 2
+def test_bad_input_exits_2_with_one_line(argv, capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(argv + (["--profiles", "p.csv"] if argv[0] == "solve" else [])) == 2
+    assert not any(tmp_path.iterdir())  # nothing written
     err = capsys.readouterr().err.strip()
     assert err and len(err.splitlines()) == 1 and "Traceback" not in err

@@ -7,9 +7,10 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 
-from ..errors import ConvergenceError, InputError
+from ..errors import ConvergenceError, InputError, SpectralContactError
 from ..physics.scene import PAPER_SCENE
 
 __all__ = ["main", "build_parser"]
@@ -35,6 +36,9 @@ def _add_scene_options(p):
 
 def _summary_text(r) -> str:
     s = r.summary()
+    for key in ("contact_center_m", "x0_m"):  # a centred contact prints 0, not -0.00000
+        if abs(s[key]) < 5e-9:
+            s[key] = 0.0
     mm, kPa = 1e3, 1e-3
     lines = [
         f"{s['model']} model, {s['method']} method: P_L = {s['load_N_per_m']:g} N/m, mu_d = {s['mu']:g}, "
@@ -53,8 +57,11 @@ def _summary_text(r) -> str:
             lines.append(f"  peak base sigma_{name}       {field[m] * kPa:10.4f} kPa at x = {r.x_m[m] * mm:.4f} mm")
     if "auto_reason" in r.info:
         lines.append(f"  auto: {r.info['auto_reason']}")
+    grid = (f"{s['grid_points']} Nystrom nodes, profiles over {s['domain_length_m'] * mm:.2f} mm"
+            if s["method"] == "abel" else
+            f"grid {s['grid_points']} points over {s['domain_length_m'] * mm:.2f} mm")
     lines.append(
-        f"  grid {s['grid_points']} points over {s['domain_length_m'] * mm:.2f} mm, {s['iterations']} iterations, "
+        f"  {grid}, {s['iterations']} iterations, "
         f"residual {s['residual']:.1e}, error estimate {s['error_estimate']:.1e}, "
         f"solve {s['wall_time_s'] * 1e3:.1f} ms (+ planning {s['plan_time_s'] * 1e3:.1f} ms)")
     return "\n".join(lines)
@@ -63,10 +70,12 @@ def _summary_text(r) -> str:
 def _cmd_solve(args) -> int:
     from ..api import solve
     from ..physics.scene import Scene
-    from .files import to_json, write_csv
+    from .files import check_plot_path, to_json, write_csv
 
     scene = Scene(load=args.load, mu=args.mu, young=args.young, radius=args.radius,
                   thickness=args.thickness)
+    if args.plot:
+        check_plot_path(args.plot)
     r = solve(scene, model=args.model, method=args.method, tol=args.tol,
               grid_points=args.grid_points, domain_length=args.domain_length)
     sensor = None
@@ -146,9 +155,17 @@ def main(argv=None) -> int:
     except ConvergenceError as exc:
         print(f"not converged: {exc}", file=sys.stderr)
         return 3
-    except OSError as exc:
+    except (OSError, SpectralContactError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    except MemoryError:
+        print("error: out of memory: raise --tol or fix a smaller --grid-points", file=sys.stderr)
+        return 2
+    except Exception as exc:  # a bug: still one line (set SPECTRAL_CONTACT_DEBUG=1 for the traceback)
+        if os.environ.get("SPECTRAL_CONTACT_DEBUG"):
+            raise
+        print(f"internal error ({type(exc).__name__}): {exc}", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from .files import check_plot_path
 
 __all__ = ["register", "COMPARE_JSON_KEYS", "CALIBRATE_JSON_KEYS"]
 
@@ -43,6 +44,8 @@ def _writable(path, what):
         raise InputError(f"{what} {path}: is a directory")
     if not p.parent.exists() and str(p.parent) not in ("", "."):
         raise InputError(f"{what} {path}: directory {p.parent} does not exist")
+    if what == "--plot":
+        check_plot_path(p)
     return p
 
 

@@ -6,7 +6,22 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["write_csv", "to_json"]
+__all__ = ["write_csv", "to_json", "check_plot_path"]
+
+
+def check_plot_path(path) -> Path:
+    """A figure path whose extension matplotlib can write and whose folder exists."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    from ..errors import InputError
+
+    path = Path(path)
+    formats = FigureCanvasBase.get_supported_filetypes()
+    if path.suffix.lstrip(".").lower() not in formats:
+        raise InputError(f"--plot {path}: unsupported format; use one of {', '.join(sorted(formats))}")
+    if str(path.parent) not in ("", ".") and not path.parent.is_dir():
+        raise InputError(f"--plot {path}: directory {path.parent} does not exist")
+    return path
 
 
 def write_csv(path, columns: dict, header_comment: str | None = None) -> Path:

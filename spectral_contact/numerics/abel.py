@@ -455,7 +455,7 @@ def solve_abel(scene: Scene, model: str = "exact", tol: float = 1e-4, n_nodes: i
     x0, inv_alpha = fine.x0, fine.inv_alpha
     if x is None:
         span = sol.a + 8.0
-        dx = min(0.05, sol.a / 25.0)
+        dx = min(0.02, sol.a / 50.0)  # peaks of the base stresses sampled to ~1e-5
         npts = int(min(max(math.ceil(2.0 * span / dx), 400), 4000)) | 1
         xx = np.linspace(-x0 - span, -x0 + span, npts)
     else:

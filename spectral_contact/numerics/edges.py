@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import InputError
+
 __all__ = ["contact_runs", "fit_edges", "peak"]
 
 
@@ -22,7 +24,8 @@ def contact_runs(active: np.ndarray):
     if not active.any():
         return []
     if active.all():
-        raise ValueError("the contact fills the whole periodic domain: enlarge domain_length")
+        raise InputError("the contact fills the whole periodic domain: enlarge domain_length, "
+                         "or the scene is beyond the FFT method's range (contact wider than the period)")
     start = int(np.argmin(active))  # an inactive node: no run wraps past it
     a = np.roll(active, -start)
     d = np.diff(np.concatenate([[0], a.astype(np.int8), [0]]))

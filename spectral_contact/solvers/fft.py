@@ -135,6 +135,10 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     L0 = domain_length or (4.0 * a_bound + margin)
     n0 = grid_points // 4 if grid_points else _pow2_at_least(L0 / (2 * a_bound / _FIRST_ACROSS))
     n0 = max(MIN_POINTS, n0)
+    if n0 > MAX_POINTS:  # say so before allocating anything
+        raise InputError(
+            f"the contact (half-width <= {a_bound:.2g} h) is too small for the FFT method's periodic "
+            f"grid (~{n0:.1e} points > 2^22): use model hertz or method abel")
     sol = solve_contact(Grid.centered(n0, L0), mu_contact, indenter, accept=accept)
     fft_pairs += sol.fft_pairs
     krylov += sol.krylov_iterations
@@ -149,6 +153,10 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     else:
         across = max(_FIRST_ACROSS, _EDGE_ERROR / tol)
         n1 = _pow2_at_least(L / (2 * q["a"] / across))
+        if n1 > MAX_POINTS:  # say so before allocating anything
+            raise InputError(
+                f"tol {tol:g} needs ~{n1:.1e} grid points for a contact of half-width {q['a']:.2g} h "
+                f"(> {MAX_POINTS} = 2^22): raise tol, or use method abel or model hertz")
         sizes = [max(MIN_POINTS, n1 // 2), n1]
         while sizes[-1] < MAX_POINTS:
             sizes.append(sizes[-1] * 2)
