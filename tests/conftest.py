@@ -1,3 +1,4 @@
+import csv
 import math
 
 import pytest
@@ -19,3 +20,9 @@ def scene_for(a_over_h_hertz: float, mu: float, base: Scene = Scene()) -> Scene:
 @pytest.fixture(scope="session")
 def paper_exact(paper):
     return solve(paper, tol=1e-4)
+
+
+def read_rows(path):
+    """The rows of a CSV file as dicts (studies' outputs)."""
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))

@@ -1,5 +1,4 @@
 """The model-map and peers studies, --quick, into tmp_path."""
-import csv
 import math
 import sys
 
@@ -7,10 +6,7 @@ import pytest
 
 from studies import model_map, peers
 
-
-def _rows(path):
-    with open(path, newline="") as fh:
-        return list(csv.DictReader(fh))
+from .conftest import read_rows
 
 
 def test_model_map_quick(tmp_path, capsys):
@@ -18,7 +14,7 @@ def test_model_map_quick(tmp_path, capsys):
     for name in ("model_map.csv", "model_map_fit.csv", "model_map_auto.csv", "model_map.png"):
         assert (tmp_path / name).stat().st_size > 0, name
     assert (tmp_path / "model_map.png").stat().st_size > 20_000
-    rows = _rows(tmp_path / "model_map.csv")
+    rows = read_rows(tmp_path / "model_map.csv")
     assert len(rows) == 36
     for r in rows:
         for tag in ("H", "G"):
@@ -31,10 +27,10 @@ def test_model_map_quick(tmp_path, capsys):
     assert all(b[1] > a[1] for a, b in zip(h0, h0[1:]))
     assert h0[0][1] == pytest.approx(0.5 * h0[0][0] ** 2, rel=0.1)  # a shrinks by ~0.5 (a/h)^2
     # the stored bound is never below a measured error where auto could use it
-    fit = _rows(tmp_path / "model_map_fit.csv")
+    fit = read_rows(tmp_path / "model_map_fit.csv")
     stored_all = [r for r in fit if r["bound"].startswith("stored") and r["rows"] == "all"][0]
     assert int(stored_all["hertz_violations"]) == 0 and int(stored_all["goodman_violations"]) == 0
-    for r in _rows(tmp_path / "model_map_auto.csv"):
+    for r in read_rows(tmp_path / "model_map_auto.csv"):
         assert int(r["picks_over_tol"]) == 0
     out = capsys.readouterr().out
     assert "Model errors against the exact model" in out and "fit" in out
@@ -43,7 +39,7 @@ def test_model_map_quick(tmp_path, capsys):
 def test_peers_quick_whatever_is_installed(tmp_path, capsys):
     assert peers.main(["--quick", "--out", str(tmp_path)]) == 0
     assert (tmp_path / "peers.png").stat().st_size > 0
-    rows = _rows(tmp_path / "peers.csv")
+    rows = read_rows(tmp_path / "peers.csv")
     ours = [r for r in rows if r["version"] == "this"]
     assert len(ours) == 2 and all(float(r["residual"]) < 1e-8 for r in ours)
     versions = peers.peers_available()
@@ -67,7 +63,7 @@ def test_peers_absent_still_exits_0(tmp_path, monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "ContactMechanics", None)  # import raises ImportError
     monkeypatch.setitem(sys.modules, "tamaas", None)
     assert peers.main(["--quick", "--out", str(tmp_path)]) == 0
-    rows = _rows(tmp_path / "peers.csv")
+    rows = read_rows(tmp_path / "peers.csv")
     assert {r["version"] for r in rows if r["version"] not in ("this", "-")} == {"absent"}
     out = capsys.readouterr().out
     assert "peers absent: ContactMechanics, tamaas" in out

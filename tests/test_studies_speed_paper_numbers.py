@@ -1,19 +1,15 @@
 """The speed_vs_accuracy and paper_numbers studies (--quick) into a temporary folder."""
-import csv
 
 from studies import paper_numbers, speed_vs_accuracy
 
-
-def _rows(path):
-    with path.open() as fh:
-        return list(csv.DictReader(fh))
+from .conftest import read_rows
 
 
 def test_speed_vs_accuracy_quick(tmp_path, capsys):
     assert speed_vs_accuracy.main(["--quick", "--out", str(tmp_path)]) == 0
     for name in ("paper", "thin"):
         assert (tmp_path / f"speed_vs_accuracy_{name}.png").stat().st_size > 10_000
-    rows = _rows(tmp_path / "speed_vs_accuracy.csv")
+    rows = read_rows(tmp_path / "speed_vs_accuracy.csv")
     for scene in ("paper", "thin"):
         fft = [r for r in rows if r["scene"] == scene and r["sweep"] == "fft tol"]
         errs = [float(r["err_scalar"]) for r in fft]
@@ -32,11 +28,11 @@ def test_speed_vs_accuracy_quick(tmp_path, capsys):
         for lo, hi in zip(e, e[1:]):
             assert hi < lo or hi < 1e-13  # falls until roundoff
         assert all(float(r["median_ms"]) > 0 for r in rows)
-    ref = _rows(tmp_path / "speed_vs_accuracy_reference.csv")
+    ref = read_rows(tmp_path / "speed_vs_accuracy_reference.csv")
     for r in ref:  # the reference is converged and the FFT agrees with it
         assert float(r["abel64_scalar_diff"]) < 1e-12
         assert float(r["fft_scalar_diff"]) < 1e-4
-    win = _rows(tmp_path / "speed_vs_accuracy_winners.csv")
+    win = read_rows(tmp_path / "speed_vs_accuracy_winners.csv")
     assert {r["winner"] for r in win} <= {"fft", "abel", "none"}
     # only Abel reaches 1e-8 (the FFT's fixed period and edge error floor it near 1e-6)
     deep = [r for r in win if float(r["target"]) <= 1e-8]
@@ -49,7 +45,7 @@ def test_speed_vs_accuracy_quick(tmp_path, capsys):
 def test_paper_numbers_quick(tmp_path, capsys):
     assert paper_numbers.main(["--quick", "--out", str(tmp_path)]) == 0
     assert (tmp_path / "paper_numbers.png").stat().st_size > 10_000
-    rows = _rows(tmp_path / "paper_numbers.csv")
+    rows = read_rows(tmp_path / "paper_numbers.csv")
     a = [r for r in rows if r["item"].startswith("a")]
     b = [r for r in rows if r["item"].startswith("b")]
     c = [r for r in rows if r["item"].startswith("c")]
@@ -74,7 +70,7 @@ def test_paper_numbers_quick(tmp_path, capsys):
     # frictionless widths grow with load
     aw = [float(r["abel_mm"]) for r in a if r["model"] == "goodman"]
     assert aw == sorted(aw)
-    fits = _rows(tmp_path / "paper_numbers_fits.csv")
+    fits = read_rows(tmp_path / "paper_numbers_fits.csv")
     assert len(fits) == 8 and all(float(r["rms_mm"]) >= 0 for r in fits)
     assert (tmp_path / "paper_numbers_interpretations.csv").exists()
     assert (tmp_path / "paper_numbers_static.csv").exists()

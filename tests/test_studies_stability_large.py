@@ -1,15 +1,11 @@
 """Smoke tests of studies/stability.py and studies/large_domain.py (their --quick versions)."""
-import csv
 import math
 
 import pytest
 
 from studies import large_domain, stability
 
-
-def _rows(path):
-    with path.open(newline="") as fh:
-        return list(csv.DictReader(fh))
+from .conftest import read_rows
 
 
 def _f(row, key):
@@ -38,7 +34,7 @@ def test_stability_files(stability_out):
 
 
 def test_stability_images_follow_the_decay(stability_out):
-    rows = [r for r in _rows(stability_out / "stability_domain.csv") if r["status"] == "ok"]
+    rows = [r for r in read_rows(stability_out / "stability_domain.csv") if r["status"] == "ok"]
     assert {"L_minus_2a", "err_a", "err_c", "err_d", "predicted"} <= set(rows[0])
     rows.sort(key=lambda r: _f(r, "L_minus_2a"))
     err = [max(_f(r, "err_a"), _f(r, "err_c"), _f(r, "err_d")) for r in rows]
@@ -49,18 +45,18 @@ def test_stability_images_follow_the_decay(stability_out):
 
 
 def test_stability_grid_and_phase(stability_out):
-    rows = [r for r in _rows(stability_out / "stability_grid.csv") if r["status"] == "ok"]
+    rows = [r for r in read_rows(stability_out / "stability_grid.csv") if r["status"] == "ok"]
     coarse, fine = rows[0], rows[-1]
     assert _f(fine, "across") > 100 > _f(coarse, "across")
     for tag in ("raw", "avg"):
         assert _f(fine, f"{tag}_err_a") < 1e-3 < _f(coarse, f"{tag}_err_a")
-    summ = _rows(stability_out / "stability_phase_summary.csv")[0]
+    summ = read_rows(stability_out / "stability_phase_summary.csv")[0]
     # averaging over a half-cell shift shrinks the phase-dependent part of the edge error
     assert 0 < _f(summ, "avg_rms_dx") < 0.7 * _f(summ, "raw_rms_dx") < 0.1
 
 
 def test_stability_mu_and_thin(stability_out):
-    mus = _rows(stability_out / "stability_mu.csv")
+    mus = read_rows(stability_out / "stability_mu.csv")
     for r in mus:
         if r["status"] == "ok":
             assert 0 < int(r["gmres_total"]) < 10_000 and math.isfinite(_f(r, "a"))
@@ -69,7 +65,7 @@ def test_stability_mu_and_thin(stability_out):
     assert [_f(r, "mu") for r in ok][:3] == [0.0, 2.0, 10.0]
     a = [_f(r, "a") for r in ok]
     assert a == sorted(a)  # friction widens the contact
-    thin = [r for r in _rows(stability_out / "stability_thin.csv") if r["status"] == "ok"]
+    thin = [r for r in read_rows(stability_out / "stability_thin.csv") if r["status"] == "ok"]
     big = max(thin, key=lambda r: _f(r, "a_thin"))
     assert _f(big, "a_thin") >= 20
     assert 0.85 < _f(big, "a_over_thin") < 1 and abs(_f(big, "pmax_over_thin") - 1) < 0.05
@@ -83,7 +79,7 @@ def test_large_domain_files(large_out):
 
 
 def test_large_domain_cost(large_out):
-    rows = _rows(large_out / "large_domain_cost.csv")
+    rows = read_rows(large_out / "large_domain_cost.csv")
     assert int(rows[-1]["N"]) >= 2**14
     for r in rows:
         assert _f(r, "solve_s") > 0 and _f(r, "peak_MiB") > 0
@@ -92,18 +88,18 @@ def test_large_domain_cost(large_out):
     assert all(_f(r, "a_minus_a_last") < 1e-8 for r in rows[1:])
     # memory grows with N
     assert _f(rows[-1], "peak_MiB") > 2 * _f(rows[0], "peak_MiB")
-    plan = _rows(large_out / "large_domain_planning.csv")
+    plan = read_rows(large_out / "large_domain_planning.csv")
     assert all(_f(r, "measure_plan_s") > 0 and _f(r, "wisdom_replan_ms") > 0 for r in plan)
 
 
 def test_large_domain_trains(large_out):
-    rows = [r for r in _rows(large_out / "large_domain_train.csv") if r["status"] == "ok"]
+    rows = [r for r in read_rows(large_out / "large_domain_train.csv") if r["status"] == "ok"]
     assert len(rows) >= 3 and int(rows[0]["M"]) == 4
     rows.sort(key=lambda r: _f(r, "spacing"))
     inter = [abs(_f(r, "d_mid_rel")) for r in rows]
     assert inter == sorted(inter, reverse=True)  # neighbours matter less when further apart
     assert inter[-1] < 1e-2 < inter[0]
-    uneq = _rows(large_out / "large_domain_unequal.csv")
+    uneq = read_rows(large_out / "large_domain_unequal.csv")
     for r in uneq:  # the widely spaced train reproduces each isolated cylinder
         assert abs(_f(r, "a_rel_s25")) < 1e-5
         assert abs(_f(r, "iso_vs_front_door")) < 2e-3

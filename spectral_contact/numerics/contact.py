@@ -117,14 +117,14 @@ def solve_contact(grid: Grid, mu: float, indenters, *, p_init=None, rtol: float 
 
     p = np.where(active, p_init, 0.0)
     d = np.zeros(M)
-    seen = {}
+    seen = set()
     history = []
     krylov_total = 0
-    for outer in range(1, max_outer + 1):
+    for outer in range(1, max_outer + 1):  # noqa: B007 (the count is reported after the loop)
         idx = np.flatnonzero(active)
         own = owner[idx]
         ni = idx.size
-        widths = np.array([max(np.sum(own == m), 1) * dx for m in range(M)])
+        widths = np.maximum(np.bincount(own, minlength=M), 1) * dx
         # weight of each load row: its right-hand side as large as the whole gap block's, so
         # GMRES's 2-norm stopping test controls the load as tightly as the gap
         gap_norm = max(np.linalg.norm(f[idx]), 1e-300)
@@ -174,7 +174,7 @@ def solve_contact(grid: Grid, mu: float, indenters, *, p_init=None, rtol: float 
             # and slightly tensile when active.  Stop here; the residual check below accepts
             # the state only if that violation is negligible, and raises otherwise.
             break
-        seen[active.tobytes()] = outer
+        seen.add(active.tobytes())
         for m in np.flatnonzero(loaded):
             if not np.any(new & (owner == m)):
                 sel = np.flatnonzero(owner == m)
