@@ -131,7 +131,7 @@ class ContactResult:
             "error_estimate": float(self.error_estimate),
             "wall_time_s": float(self.wall_time_s),
             "plan_time_s": float(self.plan_time_s),
-        }
+        } | ({"auto_reason": self.info["auto_reason"]} if "auto_reason" in self.info else {})
 
     def profiles(self) -> dict:
         """Profile columns in SI (see ``PROFILE_COLUMNS``), apex frame."""

@@ -43,8 +43,8 @@ from spectral_contact.errors import ConvergenceError
 from spectral_contact.numerics.fft import get_rfft
 from spectral_contact.numerics.grid import Grid
 from spectral_contact.physics.film import base_stresses
+from spectral_contact.reference.hertz import hertz_base_stresses, hertz_film_sinking, hertz_half_width
 from spectral_contact.solvers import auto
-from spectral_contact.solvers.hertz import hertz_base_stresses, hertz_film_sinking, hertz_half_width
 
 from ._common import parse, progress, table
 

@@ -39,7 +39,7 @@ import time
 import numpy as np
 
 from spectral_contact import Scene, solve
-from spectral_contact.numerics.abel import solve_abel
+from spectral_contact.solvers.abel import solve_abel
 
 from ._common import parse, progress, table
 from .paper_figures import CAPTION_WIDTHS_EXACT, CAPTION_WIDTHS_GOODMAN

@@ -55,7 +55,7 @@ from spectral_contact.numerics.contact import Indenter, solve_contact
 from spectral_contact.numerics.fft import get_rfft
 from spectral_contact.numerics.grid import Grid
 from spectral_contact.physics.film import surface_compliance
-from spectral_contact.solvers.hertz import hertz_half_width, hertz_pressure
+from spectral_contact.reference.hertz import hertz_half_width, hertz_pressure
 
 from ._common import parse, progress, table
 

@@ -39,7 +39,7 @@ import warnings
 import numpy as np
 
 from spectral_contact import Scene, solve
-from spectral_contact.numerics.abel import abel_fields, solve_abel
+from spectral_contact.solvers.abel import abel_fields, solve_abel
 
 from ._common import parse, progress, table
 

@@ -1,4 +1,4 @@
-"""Tests of the Abel / Nystrom solver (spectral_contact.numerics.abel).
+"""Tests of the Abel / Nystrom solver (spectral_contact.solvers.abel).
 
 References are independent of the solver's own outputs: scipy.integrate.quad for the kernels,
 closed forms (Hertz), global equilibrium, symmetry, and physics.md's Fourier-domain compliance
@@ -13,8 +13,6 @@ from scipy.integrate import quad
 from scipy.special import jv
 
 from spectral_contact.errors import ConvergenceError, InputError
-from spectral_contact.numerics import abel as abel_mod
-from spectral_contact.numerics.abel import AbelAccuracyWarning, abel_fields, solve_abel
 from spectral_contact.numerics.abel_kernels import (
     aposteriori_kernels,
     gauss_legendre,
@@ -24,6 +22,8 @@ from spectral_contact.numerics.abel_kernels import (
 )
 from spectral_contact.physics.scene import Scene
 from spectral_contact.physics.transfer import F0_minus_1, transfer_functions
+from spectral_contact.solvers import abel as abel_mod
+from spectral_contact.solvers.abel import AbelAccuracyWarning, abel_fields, solve_abel
 
 from .conftest import scene_for
 

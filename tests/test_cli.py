@@ -3,7 +3,7 @@ import json
 import numpy as np
 import pytest
 
-from spectral_contact.interfaces.cli import main
+from spectral_contact.cli.main import main
 from spectral_contact.result import JSON_KEYS, PROFILE_COLUMNS
 
 

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from spectral_contact import solve
-from spectral_contact.interfaces.cli import main
-from spectral_contact.numerics.abel import solve_abel
+from spectral_contact.cli.main import main
+from spectral_contact.solvers.abel import solve_abel
 
 from .conftest import scene_for
 

@@ -18,8 +18,8 @@ from spectral_contact.instruments.axisym import (
     punch_sensitivity,
 )
 from spectral_contact.instruments.calibration import calibrate
+from spectral_contact.instruments.measured_io import read_measured_profile, read_radial_profile
 from spectral_contact.instruments.sensor import convolve_line, sensor_profiles, sensor_view
-from spectral_contact.interfaces.measured_io import read_measured_profile, read_radial_profile
 from spectral_contact.numerics.fft import get_rfft
 from spectral_contact.physics.transfer import transfer_functions
 
@@ -285,7 +285,7 @@ def _synthetic_measurement(tmp_path, model, P=200.0, mu=2.0, offset=1.234e-3, et
 
 
 def test_compare_recovers_load_friction_offset(tmp_path, capsys):
-    from spectral_contact.interfaces.cli import main
+    from spectral_contact.cli.main import main
 
     f, noise_chi = _synthetic_measurement(tmp_path, "exact")
     png = tmp_path / "cmp.png"
@@ -307,7 +307,7 @@ def test_compare_recovers_load_friction_offset(tmp_path, capsys):
 
 
 def test_compare_prefers_the_model_that_made_the_data(tmp_path, capsys):
-    from spectral_contact.interfaces.cli import main
+    from spectral_contact.cli.main import main
 
     f, noise_chi = _synthetic_measurement(tmp_path, "goodman", kind="U")
     assert main(["compare", str(f), "--json", "--no-fit"]) == 0
@@ -320,7 +320,7 @@ def test_compare_prefers_the_model_that_made_the_data(tmp_path, capsys):
 # --- calibrate subcommand ---------------------------------------------------------------------
 
 def test_calibrate_cli_writes_apparatus_csv_and_plot(tmp_path, capsys, rod_scan):
-    from spectral_contact.interfaces.cli import main
+    from spectral_contact.cli.main import main
 
     r, U, S = rod_scan
     meas = _csv(tmp_path / "U.csv", {"r_m": r, "U_zz_mV": U["zz"], "U_xz_mV": U["xz"]})
@@ -374,7 +374,7 @@ def test_bad_measured_file_raises_one_line_input_error(tmp_path, case):
 
 @pytest.mark.parametrize("case", ["missing_column", "nan", "empty", "non_uniform", "too_few"])
 def test_bad_measured_file_via_cli_exits_2_and_writes_nothing(tmp_path, capsys, case):
-    from spectral_contact.interfaces.cli import main
+    from spectral_contact.cli.main import main
 
     f = _write(tmp_path / f"{case}.csv", BAD_FILES[case][0])
     png = tmp_path / "out.png"
@@ -385,7 +385,7 @@ def test_bad_measured_file_via_cli_exits_2_and_writes_nothing(tmp_path, capsys, 
 
 
 def test_bad_inputs_to_calibrate_exit_2_and_write_nothing(tmp_path, capsys):
-    from spectral_contact.interfaces.cli import main
+    from spectral_contact.cli.main import main
 
     r = np.arange(40) * 1e-4
     good = _csv(tmp_path / "U.csv", {"r_m": r, "U_zz_mV": np.exp(-r / 1e-3)})

@@ -6,13 +6,13 @@ import numpy as np
 import pytest
 
 from spectral_contact import MODELS, solve
-from spectral_contact.interfaces.cli import main
+from spectral_contact.cli.main import main
 from spectral_contact.numerics.fft import get_rfft
 from spectral_contact.numerics.grid import Grid
 from spectral_contact.physics.film import base_stresses
+from spectral_contact.reference.hertz import hertz_base_stresses, hertz_film_sinking, hertz_pressure
 from spectral_contact.result import JSON_KEYS
 from spectral_contact.solvers import auto
-from spectral_contact.solvers.hertz import hertz_base_stresses, hertz_film_sinking, hertz_pressure
 
 from .conftest import scene_for
 

@@ -1,6 +1,6 @@
 import csv
 
-from spectral_contact.interfaces.cli import main
+from spectral_contact.cli.main import main
 
 
 def test_benchmark_quick_through_the_cli(tmp_path, capsys):

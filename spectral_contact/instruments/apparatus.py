@@ -263,7 +263,7 @@ class TabulatedApparatus(ApparatusFunction):
 
 def load_apparatus_csv(path) -> TabulatedApparatus:
     """A user apparatus function from a CSV radial profile (columns r_m and G or G_per_m2)."""
-    from ..interfaces.measured_io import read_radial_profile
+    from .measured_io import read_radial_profile
 
     r, g, _ = read_radial_profile(path, ("G", "G_per_m2"), min_points=2)
     return TabulatedApparatus(r, g, source=str(path))

@@ -28,11 +28,8 @@ were fitted on, and what its validation found).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
 
-from ..result import ContactResult
-
-__all__ = ["model_error_bound", "choose_model", "solve_auto", "AutoResult", "COST_ORDER",
+__all__ = ["model_error_bound", "choose_model", "COST_ORDER",
            "BOUND", "S_MIN", "S_MAX", "MU_MIN", "MU_MAX", "PROVENANCE"]
 
 COST_ORDER = ("hertz", "goodman", "exact")
@@ -94,36 +91,3 @@ def choose_model(s: float, mu: float, tol: float):
                        f"(fitted bound, solvers/auto.py; validated by studies/model_map)", bounds)
     return ("exact", f"exact: error bounds hertz {bounds['hertz']:.2g}, goodman "
                      f"{bounds['goodman']:.2g} >= tol {tol:.2g} at {where}", bounds)
-
-
-@dataclass
-class AutoResult(ContactResult):
-    """A ContactResult whose JSON record also carries ``auto_reason``."""
-
-    def summary(self) -> dict:
-        out = super().summary()
-        out["auto_reason"] = self.info.get("auto_reason", "")
-        return out
-
-
-def solve_auto(scene, tol: float, method: str, grid_points=None, domain_length_h=None,
-               methods: dict | None = None) -> AutoResult:
-    """Pick the model (``choose_model``) and solve with it.  ``methods``: the api's METHODS
-    (name -> callable(scene, model, tol, grid_points, domain_length_h)) for goodman/exact;
-    hertz is closed form whatever the method."""
-    from .hertz import hertz_half_width, solve_hertz
-
-    s = hertz_half_width(scene.P)
-    model, reason, bounds = choose_model(s, scene.mu, tol)
-    if model == "hertz":
-        r = solve_hertz(scene, tol=tol, grid_points=grid_points, domain_length=domain_length_h)
-    else:
-        if methods is None:
-            from ..api import METHODS as methods
-        r = methods[method](scene, model, tol, grid_points, domain_length_h)
-    info = dict(r.info)
-    info.update({"auto": model, "auto_reason": reason, "auto_bounds": bounds,
-                 "auto_provenance": PROVENANCE})
-    out = AutoResult(**{f.name: getattr(r, f.name) for f in fields(ContactResult)})
-    out.info = info
-    return out

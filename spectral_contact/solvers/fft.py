@@ -31,8 +31,9 @@ from ..numerics.grid import Grid
 from ..physics.film import DECAY_RATE, base_stresses
 from ..physics.scene import Scene
 from ..result import ContactResult
+from .base import Method, check_grid_points, register
 
-__all__ = ["solve_fft", "MIN_POINTS", "MAX_POINTS"]
+__all__ = ["solve_fft", "FFTMethod", "MIN_POINTS", "MAX_POINTS"]
 
 MIN_POINTS = 64
 MAX_POINTS = 2**22
@@ -224,3 +225,23 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         grid_points=sol.grid.n, domain_length=sol.grid.length, iterations=sol.iterations,
         residual=residual, error_estimate=est, wall_time_s=total - plan_time,
         plan_time_s=plan_time, info=info)
+
+
+@register
+class FFTMethod(Method):
+    """The spectral method: periodic grid, film symbols by FFT, active set + GMRES.
+
+    Options: ``grid_points`` (even, 64 ... 2^24; a power of two is fastest) and
+    ``domain_length`` (the period, in h, > 0), each fixed instead of chosen from ``tol``."""
+
+    name = "fft"
+
+    def __init__(self, tol: float = 1e-4, grid_points=None, domain_length=None):
+        super().__init__(tol)
+        self.grid_points = check_grid_points(grid_points, MIN_POINTS, 2**24, "fft grid points", even=True)
+        if domain_length is not None and not (math.isfinite(domain_length) and domain_length > 0):
+            raise InputError(f"domain_length must be > 0; got {domain_length}")
+        self.domain_length = domain_length
+
+    def solve(self, scene: Scene, model: str) -> ContactResult:
+        return solve_fft(scene, self.check_model(model), self.tol, self.grid_points, self.domain_length)

@@ -73,10 +73,7 @@ import numpy as np
 from scipy.special import j0, j1
 
 from ..errors import ConvergenceError, InputError
-from ..physics.scene import Scene, check_tol
-from ..physics.transfer import transfer_functions
-from ..result import ContactResult
-from .abel_kernels import (
+from ..numerics.abel_kernels import (
     KMAX_M,
     KMAX_Z,
     aposteriori_kernels,
@@ -85,8 +82,12 @@ from .abel_kernels import (
     legendre_log_weights,
     m_kernels,
 )
+from ..physics.scene import Scene, check_tol
+from ..physics.transfer import transfer_functions
+from ..result import ContactResult
+from .base import Method, check_grid_points, register
 
-__all__ = ["solve_abel", "AbelAccuracyWarning", "COND_WARN", "abel_fields"]
+__all__ = ["solve_abel", "AbelMethod", "AbelAccuracyWarning", "COND_WARN", "abel_fields"]
 
 COND_WARN = 1e8        # Nystrom condition number above which results lose > ~1e-8 relative
 N_MAX = 400            # largest node count the tolerance loop may use
@@ -489,3 +490,22 @@ def solve_abel(scene: Scene, model: str = "exact", tol: float = 1e-4, n_nodes: i
         domain_length=float(xx[-1] - xx[0]) if xx.size > 1 else 0.0,
         iterations=int(fine.iterations), residual=float(fine.residual), error_estimate=float(err),
         wall_time_s=time.perf_counter() - t_start, info=info)
+
+
+@register
+class AbelMethod(Method):
+    """The paper's Abel formulation (Nystrom on Gauss-Legendre nodes): an independent check.
+
+    Option: ``grid_points``, the number of Nystrom nodes (6 ... 2000), fixed instead of chosen
+    from ``tol``.  It needs no domain: ``domain_length`` is refused."""
+
+    name = "abel"
+
+    def __init__(self, tol: float = 1e-4, grid_points=None, domain_length=None):
+        super().__init__(tol)
+        self.grid_points = check_grid_points(grid_points, 6, 2000, "Abel Nystrom nodes")
+        if domain_length is not None:
+            raise InputError("domain_length applies to method fft only (method abel needs no domain)")
+
+    def solve(self, scene: Scene, model: str) -> ContactResult:
+        return solve_abel(scene, self.check_model(model), self.tol, self.grid_points)

@@ -16,7 +16,7 @@ from ..physics.scene import PAPER_SCENE
 __all__ = ["main", "build_parser"]
 
 # modules that add subcommands: each exposes register(subparsers)
-_PLUGINS = ("spectral_contact.interfaces.cli_mems",)
+_PLUGINS = ("spectral_contact.cli.mems",)
 
 
 class _Parser(argparse.ArgumentParser):

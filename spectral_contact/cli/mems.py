@@ -1,6 +1,6 @@
 """MEMS subcommands of the command line: ``compare`` and ``calibrate``.
 
-``register(subparsers)`` adds them to the main parser (``interfaces.cli``).  Each handler
+``register(subparsers)`` adds them to the main parser (``cli.main``).  Each handler
 returns an exit status; input problems raise ``InputError`` (the main CLI prints one line and
 exits with status 2).  Every input is read and checked before any file is written.
 """
@@ -118,8 +118,8 @@ def _apparatus(args):
 def _cmd_compare(args) -> int:
     from ..api import check_tol
     from ..instruments.compare import compare_models, fit_load_mu, integral_estimates
+    from ..instruments.measured_io import read_measured_profile
     from ..physics.scene import Scene
-    from .measured_io import read_measured_profile
 
     tol = check_tol(args.tol)
     plot = _writable(args.plot, "--plot")
@@ -229,7 +229,7 @@ def _same_grid(r_meas, r_comp, values, name):
 
 def _cmd_calibrate(args) -> int:
     from ..instruments.calibration import calibrate
-    from .measured_io import read_radial_profile
+    from ..instruments.measured_io import read_radial_profile
 
     out = _writable(args.out, "--out")
     plot = _writable(args.plot, "--plot")
