@@ -1,62 +1,85 @@
-"""Real FFTs through pyfftw, planned once per size and reused.
+"""Real FFTs through pyfftw, planned once per (shape, threads, planner effort) and reused.
 
-``RealFFT(n)`` owns aligned input/output buffers and two FFTW plans (r2c and c2r).  ``get_rfft(n)``
-returns a cached instance, so every solve on the same grid shares one pair of plans.  Wisdom is
-kept in-process (pyfftw keeps it) and can be exported with ``export_wisdom``.
+``RealFFT(shape)`` owns aligned input/output buffers and two FFTW plans (r2c and c2r) over all
+axes.  ``get_rfft(shape)`` returns a cached instance.  The cache is per thread: a plan's buffers
+are its state, so two threads sharing one plan would overwrite each other's data mid-transform;
+each thread therefore plans (cheaply, from FFTW's in-process wisdom) and keeps its own.
 
-Convention (numpy's): forward f^_k = sum_j f_j exp(-2 pi i jk/n); backward divides by n.
+Convention (numpy's): forward f^_k = sum_j f_j exp(-2 pi i j.k/n); backward divides by the
+number of points.
 
 Planner effort: FFTW_ESTIMATE by default (planning costs milliseconds; a transform pair is
-1.2-1.8x slower than with FFTW_MEASURE from N = 2^14 on, up to 2.9x seen at 2^18, and no
-slower below, while MEASURE planning costs ~0.4 s at 2^10 and 13-40 s at 2^18-2^20:
-studies/large_domain).  Set the environment variable SPECTRAL_CONTACT_FFTW=measure (or call
-``set_planner_effort("FFTW_MEASURE")``) for long sweeps; measured plans are then stored as FFTW
-wisdom in ``~/.cache/spectral_contact/fftw_wisdom`` and reused by later runs.
+1.2-1.8x slower than with FFTW_MEASURE from N = 2^14 on, while MEASURE planning costs ~0.4 s at
+2^10 and 13-40 s at 2^18-2^20: studies/large_domain).  Set the environment variable
+SPECTRAL_CONTACT_FFTW=measure (or call ``set_planner_effort("FFTW_MEASURE")``) for long sweeps;
+measured plans are then stored as FFTW wisdom in ``WISDOM_FILE`` and reused by later runs.
+
+The wisdom file holds FFTW's own exported text (``fftw_export_wisdom``), never a pickle: it is
+checked to look like FFTW wisdom and handed to FFTW's parser, which only reads plans; anything
+unreadable is ignored with one warning.  It is written to a temporary file and renamed.
 """
 from __future__ import annotations
 
 import os
-import pickle
+import tempfile
 import threading
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
 import pyfftw
 
-__all__ = ["RealFFT", "get_rfft", "plan_cache_info", "clear_plans"]
+__all__ = ["RealFFT", "get_rfft", "plan_cache_info", "clear_plans", "set_planner_effort",
+           "load_wisdom", "save_wisdom", "WISDOM_FILE"]
 
 _EFFORTS = {"estimate": "FFTW_ESTIMATE", "measure": "FFTW_MEASURE", "patient": "FFTW_PATIENT"}
 _PLANNER_EFFORT = _EFFORTS.get(os.environ.get("SPECTRAL_CONTACT_FFTW", "estimate").lower(),
                                "FFTW_ESTIMATE")
-WISDOM_FILE = Path.home() / ".cache" / "spectral_contact" / "fftw_wisdom"
-_lock = threading.Lock()
-_cache: dict[tuple[int, ...], RealFFT] = {}
+WISDOM_FILE = Path.home() / ".cache" / "spectral_contact" / "fftw_wisdom.txt"
+_WISDOM_MAX_BYTES = 16 * 2**20
+_plan_lock = threading.Lock()   # FFTW's planner is not thread-safe
+_local = threading.local()      # per-thread plan caches
+
+
+def _shape(shape) -> tuple[int, ...]:
+    return (int(shape),) if np.isscalar(shape) else tuple(int(s) for s in shape)
 
 
 class RealFFT:
-    """A planned real-to-complex / complex-to-real transform pair along the last axis.
+    """A planned real-to-complex / complex-to-real transform pair over all axes.
 
     Parameters
     ----------
     shape : int or tuple of int
-        Real-space shape (the transform runs along the last axis; 2D shapes transform both axes).
+        Real-space shape; the half spectrum has shape ``shape[:-1] + (shape[-1] // 2 + 1,)``.
+    planner_effort : str, optional
+        "FFTW_ESTIMATE" (default), "FFTW_MEASURE" or "FFTW_PATIENT".
+    threads : int
+        FFTW threads per transform (1: the solver's transforms are small; parallelism is across
+        scenes).
+
+    An instance is not safe to share between threads (its buffers are its state): use
+    ``get_rfft``, which keeps one per thread.
     """
 
-    def __init__(self, shape, planner_effort: str | None = None):
+    def __init__(self, shape, planner_effort: str | None = None, threads: int = 1):
         planner_effort = planner_effort or _PLANNER_EFFORT
-        shape = (int(shape),) if np.isscalar(shape) else tuple(int(s) for s in shape)
+        shape = _shape(shape)
         self.shape = shape
         self.n = shape[-1]
+        self.threads = int(threads)
         kshape = shape[:-1] + (shape[-1] // 2 + 1,)
         axes = tuple(range(-len(shape), 0))
         t0 = time.perf_counter()
         self._r = pyfftw.empty_aligned(shape, dtype="float64")
         self._c = pyfftw.empty_aligned(kshape, dtype="complex128")
-        self._fwd = pyfftw.FFTW(self._r, self._c, axes=axes, direction="FFTW_FORWARD",
-                                flags=(planner_effort,), threads=1)
-        self._bwd = pyfftw.FFTW(self._c, self._r, axes=axes, direction="FFTW_BACKWARD",
-                                flags=(planner_effort, "FFTW_DESTROY_INPUT"), threads=1)
+        with _plan_lock:
+            self._fwd = pyfftw.FFTW(self._r, self._c, axes=axes, direction="FFTW_FORWARD",
+                                    flags=(planner_effort,), threads=self.threads)
+            self._bwd = pyfftw.FFTW(self._c, self._r, axes=axes, direction="FFTW_BACKWARD",
+                                    flags=(planner_effort, "FFTW_DESTROY_INPUT"),
+                                    threads=self.threads)
         self.plan_time_s = time.perf_counter() - t0
         self._scale = 1.0 / float(np.prod(shape))
 
@@ -81,16 +104,23 @@ class RealFFT:
         return self._r * self._scale
 
 
-def get_rfft(shape) -> RealFFT:
-    """The cached plan pair for this shape (planned on first use)."""
-    key = (int(shape),) if np.isscalar(shape) else tuple(int(s) for s in shape)
-    with _lock:
-        plan = _cache.get(key)
-        if plan is None:
-            plan = _cache[key] = RealFFT(key)
-            if _PLANNER_EFFORT != "FFTW_ESTIMATE":
-                save_wisdom()
-        return plan
+def _cache() -> dict:
+    c = getattr(_local, "plans", None)
+    if c is None:
+        c = _local.plans = {}
+    return c
+
+
+def get_rfft(shape, threads: int = 1) -> RealFFT:
+    """This thread's plan pair for ``shape`` (planned on first use)."""
+    key = (_shape(shape), int(threads), _PLANNER_EFFORT)
+    cache = _cache()
+    plan = cache.get(key)
+    if plan is None:
+        plan = cache[key] = RealFFT(key[0], key[2], key[1])
+        if _PLANNER_EFFORT != "FFTW_ESTIMATE":
+            save_wisdom()
+    return plan
 
 
 def set_planner_effort(effort: str) -> None:
@@ -104,31 +134,49 @@ def set_planner_effort(effort: str) -> None:
         load_wisdom()
 
 
-def load_wisdom() -> bool:
-    """Import stored FFTW wisdom if there is any; returns whether it did."""
+def load_wisdom(path: Path | None = None) -> bool:
+    """Import stored FFTW wisdom (double precision) if there is a valid file; returns whether
+    it did.  A file that is not FFTW wisdom is ignored with one warning."""
+    path = Path(path or WISDOM_FILE)
     try:
-        pyfftw.import_wisdom(pickle.loads(WISDOM_FILE.read_bytes()))
-        return True
-    except (OSError, ValueError, pickle.UnpicklingError, EOFError):
+        if not path.is_file():
+            return False
+        data = path.read_bytes()[: _WISDOM_MAX_BYTES + 1]
+    except OSError:
         return False
+    ok = (len(data) <= _WISDOM_MAX_BYTES and data.startswith(b"(fftw-")
+          and pyfftw.import_wisdom((data, b"", b""))[0])
+    if not ok:
+        warnings.warn(f"ignoring {path}: not FFTW wisdom (delete it to silence this warning)",
+                      RuntimeWarning, stacklevel=2)
+    return bool(ok)
 
 
-def save_wisdom() -> None:
+def save_wisdom(path: Path | None = None) -> None:
+    """Store FFTW's exported double-precision wisdom (text), atomically."""
+    path = Path(path or WISDOM_FILE)
     try:
-        WISDOM_FILE.parent.mkdir(parents=True, exist_ok=True)
-        WISDOM_FILE.write_bytes(pickle.dumps(pyfftw.export_wisdom()))
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
+        try:
+            with os.fdopen(fd, "wb") as fh:
+                fh.write(pyfftw.export_wisdom()[0])
+            os.replace(tmp, path)
+        except BaseException:
+            os.unlink(tmp)
+            raise
     except OSError:
         pass  # wisdom is an optimisation: a read-only home must not break a solve
 
 
 def plan_cache_info() -> dict:
-    """Shapes currently planned and their planning times [s]."""
-    return {k: v.plan_time_s for k, v in _cache.items()}
+    """This thread's planned (shape, threads, effort) keys and their planning times [s]."""
+    return {k: v.plan_time_s for k, v in _cache().items()}
 
 
 def clear_plans() -> None:
-    with _lock:
-        _cache.clear()
+    """Forget this thread's plans."""
+    _cache().clear()
 
 
 if _PLANNER_EFFORT != "FFTW_ESTIMATE":

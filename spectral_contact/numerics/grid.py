@@ -1,37 +1,166 @@
-"""Uniform periodic grid on the film surface (dimensionless: lengths in h)."""
+"""Uniform periodic grid in any number of dimensions: the one source of coordinates and
+wavenumbers in the package.
+
+A grid of shape (n_0, ..., n_{d-1}) covers the periods (L_0, ..., L_{d-1}) from ``origin``;
+node j along axis i sits at origin_i + j L_i / n_i.  Arrays on the grid are indexed [x, y, ...]
+(axis 0 is x, the sliding direction).  Wavevectors are laid out as the real transforms of
+``numerics.fft`` use them (``numpy.fft.rfftn`` over all axes): the last axis holds the
+non-negative half spectrum (rfftfreq), the others the full one (fftfreq), so that
+``kshape = shape[:-1] + (shape[-1] // 2 + 1,)``.  1D is shape (n,): then k >= 0 throughout.
+
+Units are whatever the caller's lengths are in (film thicknesses h in the dimensionless core,
+metres in the instruments); wavenumbers are 2 pi / length in the same unit.
+"""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
 
-__all__ = ["Grid"]
+__all__ = ["Grid", "pow2_at_least"]
+
+
+def pow2_at_least(n: float, minimum: int = 1) -> int:
+    """Smallest power of two >= n (and >= ``minimum``)."""
+    return max(minimum, 1 << max(0, math.ceil(math.log2(max(n, 1.0)))))
+
+
+def _tuple(v, kind) -> tuple:
+    return tuple(kind(x) for x in v) if np.ndim(v) else (kind(v),)
 
 
 @dataclass(frozen=True)
 class Grid:
-    """n points x_j = origin + j L/n on a period L (in h)."""
+    """A periodic grid: ``shape`` points over the periods ``lengths`` starting at ``origin``.
 
-    n: int
-    length: float
-    origin: float = 0.0
+    Scalars are accepted for one dimension: ``Grid(n, L, x0)`` is ``Grid((n,), (L,), (x0,))``.
+
+    Attributes (all axes): ``ndim``, ``shape``, ``lengths``, ``origin``, ``spacing`` (cell sizes),
+    ``cell`` (cell length/area: the quadrature weight of a node), ``axes`` (1D coordinates per
+    axis), ``kshape``, ``wavevector`` (broadcastable k components per axis, real-FFT layout),
+    ``kmag`` (|k| on the half spectrum).  Along the first axis (x, the sliding direction):
+    ``n``, ``length``, ``dx``, ``x``; ``k`` is |k| (in 1D the wavenumbers k >= 0 themselves).
+    """
+
+    shape: tuple
+    lengths: tuple
+    origin: tuple = 0.0
+
+    def __post_init__(self):
+        shape = _tuple(self.shape, int)
+        lengths = _tuple(self.lengths, float)
+        origin = _tuple(self.origin, float)
+        if len(origin) == 1 and len(shape) > 1:
+            origin = origin * len(shape)
+        if not (len(shape) == len(lengths) == len(origin)):
+            raise ValueError(f"shape {shape}, lengths {lengths} and origin {origin} differ in length")
+        object.__setattr__(self, "shape", shape)
+        object.__setattr__(self, "lengths", lengths)
+        object.__setattr__(self, "origin", origin)
+
+    @staticmethod
+    def centered(shape, lengths, center=0.0) -> Grid:
+        """A grid whose node number n // 2 along each axis sits at ``center``."""
+        shape, lengths = _tuple(shape, int), _tuple(lengths, float)
+        center = _tuple(center, float)
+        if len(center) == 1:
+            center = center * len(shape)
+        return Grid(shape, lengths, tuple(c - (n // 2) * (L / n)
+                                          for n, L, c in zip(shape, lengths, center)))
+
+    # --- real space -------------------------------------------------------------------------
+    @property
+    def ndim(self) -> int:
+        return len(self.shape)
+
+    @property
+    def size(self) -> int:
+        return int(np.prod(self.shape))
+
+    @property
+    def spacing(self) -> tuple:
+        return tuple(L / n for n, L in zip(self.shape, self.lengths))
+
+    @property
+    def cell(self) -> float:
+        """Length (1D) or area (2D) of one cell: the weight of a node in an integral."""
+        return float(np.prod(self.spacing))
+
+    @cached_property
+    def axes(self) -> tuple:
+        """Coordinates along each axis (1D arrays)."""
+        return tuple(o + np.arange(n) * d for n, o, d in zip(self.shape, self.origin, self.spacing))
+
+    def coordinates(self) -> tuple:
+        """Broadcastable coordinate arrays (sparse 'ij' mesh: x of shape (nx, 1), y of (1, ny))."""
+        return tuple(np.meshgrid(*self.axes, indexing="ij", sparse=True))
+
+    def periodic_offset(self, point) -> tuple:
+        """Broadcastable components of (node - point), folded into [-L/2, L/2) per axis."""
+        point = _tuple(point, float)
+        out = []
+        for i, (x, L, p) in enumerate(zip(self.axes, self.lengths, point)):
+            rel = x - p
+            rel = rel - L * np.round(rel / L)
+            out.append(rel.reshape([-1 if j == i else 1 for j in range(self.ndim)]))
+        return tuple(out)
+
+    # first axis (x, the sliding direction): the 1D names
+    @property
+    def n(self) -> int:
+        return self.shape[0]
+
+    @property
+    def length(self) -> float:
+        return self.lengths[0]
 
     @property
     def dx(self) -> float:
-        return self.length / self.n
+        return self.spacing[0]
 
-    @cached_property
+    @property
     def x(self) -> np.ndarray:
-        return self.origin + np.arange(self.n) * self.dx
+        return self.axes[0]
+
+    # --- Fourier space ----------------------------------------------------------------------
+    @property
+    def kshape(self) -> tuple:
+        return self.shape[:-1] + (self.shape[-1] // 2 + 1,)
 
     @cached_property
+    def wavevector(self) -> tuple:
+        """k components per axis, broadcastable to ``kshape`` (real-FFT layout)."""
+        out = []
+        for i, (n, d) in enumerate(zip(self.shape, self.spacing)):
+            last = i == self.ndim - 1
+            k = 2.0 * np.pi * (np.fft.rfftfreq(n, d) if last else np.fft.fftfreq(n, d))
+            out.append(k.reshape([-1 if j == i else 1 for j in range(self.ndim)]))
+        return tuple(out)
+
+    @cached_property
+    def kmag(self) -> np.ndarray:
+        """|k| on the half spectrum (shape ``kshape``)."""
+        if self.ndim == 1:
+            return self.wavevector[0]
+        return np.sqrt(sum(np.broadcast_to(k * k, self.kshape) for k in self.wavevector))
+
+    @property
     def k(self) -> np.ndarray:
-        """Non-negative wavenumbers of the real FFT half spectrum (1/h)."""
-        return 2.0 * np.pi * np.fft.rfftfreq(self.n, self.dx)
+        """|k| on the half spectrum; in 1D the wavenumbers k >= 0 of the real FFT."""
+        return self.kmag
 
-    def centered(n: int, length: float, center: float = 0.0) -> Grid:
-        """A grid of n points whose middle point sits at ``center``."""
-        return Grid(n, length, center - (n // 2) * (length / n))
-
-    centered = staticmethod(centered)
+    @cached_property
+    def direction(self) -> tuple:
+        """Unit vector n = k/|k| per component (shape ``kshape``); at k = 0, n = e_x (the
+        convention that keeps 1D symbols even in k: n_x = sgn(k) = +1 on the half spectrum)."""
+        k = self.kmag
+        zero = k == 0
+        safe = np.where(zero, 1.0, k)
+        out = []
+        for i, ki in enumerate(self.wavevector):
+            ni = np.broadcast_to(ki, self.kshape) / safe
+            ni = np.where(zero, 1.0 if i == 0 else 0.0, ni)
+            out.append(ni)
+        return tuple(out)

@@ -1,29 +1,42 @@
-"""Fourier symbols of the bonded incompressible film (physics.md; the paper's Eqs. bc3-bc4, Z1-Z6).
+"""The film: an incompressible elastic layer of thickness h bonded to a rigid base, and the one
+factory of its Fourier symbols (physics.md; physics3d.md; the paper's Eqs. bc3-bc4, Z1-Z6).
 
-Fourier convention (numpy's): f^(k) = Int f(x) exp(-ikx) dx.  All symbols are returned on k >= 0
-(real FFT half spectrum); the negative-k half follows from Hermitian symmetry.
+Conventions.  Fields are sums of exp(+i k.x) (numpy's), x = (x, y) on the surface, x the sliding
+direction.  A wavevector is given as its direction n = k/|k| (a tuple of broadcastable arrays,
+one per surface dimension: 1 for plane strain, 2 for 3D) and its magnitude |k|; K = |k| h.
+At k = 0 the direction is taken as n = e_x (any choice gives the same symbols there).
+Surface tractions at z = h: sigma_zz = -p (p >= 0 in compression) and the shear
+tau = (sigma_xz, sigma_yz); base (z = 0) tractions are returned the same way.
 
-Surface compliance, surface normal displacement u_z(x, 1) under sigma_zz(x, 1) with Amontons
-friction sigma_xz(x, 1) = -mu sigma_zz(x, 1):
+Surface compliance, for sliding along the unit vector e with Amontons friction tau = mu p e:
+the surface sinks by w = -u_z with
 
-    u_z^ = H(k) sigma_zz^,   H(k) = (F0(|k|) + i mu sgn(k) F1(|k|)) / (2|k|),   H(0) = 0.
+    w^ = H p^,     H = [F0(K) + i mu (e . n) F1(K)] / (2 |k|),     H(k = 0) = 0,
 
-With sigma_zz = -p the surface sinks by w = -u_z = H p.  The i mu F1 term is real-odd in x: the
-operator is not symmetric.  H(0) = 0: a uniform pressure does not move an incompressible film on a
-rigid base.
+in units of 1/G (G = E/3); in the paper's dimensionless units (k in 1/h, stresses in G h/2R,
+displacements in h^2/2R) exactly the expression above.  The mu term is odd in k: the operator
+is not symmetric.  H(0) = 0: a uniform pressure does not move an incompressible film.
 
-Base stresses (z = 0) from surface tractions:
+Base stresses, from the surface tractions (by isotropy each mode splits into the sagittal
+plane-strain problem along n and an anti-plane one across it, physics3d.md):
 
-    sigma_zz^(k,0) = A sigma_zz^(k,1) + i sgn(k) B sigma_xz^(k,1)
-    sigma_xz^(k,0) = C sigma_xz^(k,1) + i sgn(k) B sigma_zz^(k,1)
+    sigma_zz^(0) = A sigma_zz^(h) + i B tau_L^(h),          tau_L = n . tau
+    tau_L^(0)    = C tau_L^(h)    + i B sigma_zz^(h)
+    tau_T^(0)    = tau_T^(h) / cosh K                        tau_T = tau - n tau_L
+
+written as tau^(0) = n tau_L^(0) + (tau^(h) - n tau_L^(h)) / cosh K, which in 1D (n = +1 on the
+real-FFT half spectrum) is exactly physics.md's sigma_xz^(0) = C sigma_xz^(h) + i B sigma_zz^(h).
+At k = 0: sigma_zz^(0) = sigma_zz^(h), tau^(0) = tau^(h) (the base carries the loads).
 """
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 
 from .transfer import transfer_functions
 
-__all__ = ["surface_compliance", "base_stress_symbols", "DECAY_RATE"]
+__all__ = ["Film", "DECAY_RATE", "surface_compliance", "base_stress_symbols", "base_stresses"]
 
 DECAY_RATE = 0.7390851332151607
 """Slowest exponential decay rate (in 1/h) of the film's kernels in x: the pole of 1/D(k) at
@@ -31,27 +44,97 @@ k = i*0.739... (D = cosh 2k + 1 + 2k^2 vanishes where cos y = y).  Periodic imag
 perturb the solution by ~exp(-DECAY_RATE * s)."""
 
 
+def _sech(K: np.ndarray) -> np.ndarray:
+    """1/cosh K without overflow."""
+    e = np.exp(-np.abs(K))
+    return 2.0 * e / (1.0 + e * e)
+
+
+@dataclass(frozen=True)
+class Film:
+    """An incompressible (nu = 1/2) elastic film bonded to a rigid base.
+
+    Parameters
+    ----------
+    thickness : float
+        h, in the unit of the wavenumbers' lengths (1 in the dimensionless core, where lengths
+        are in h; metres where wavenumbers are in 1/m).
+
+    The film's parameters live here (its thickness now; Poisson ratio and interface laws are
+    the natural additions), so that every symbol of the package comes from one place.
+    """
+
+    thickness: float = 1.0
+
+    @property
+    def decay_rate(self) -> float:
+        """Slowest decay rate of the film's kernels in real space [1/length]."""
+        return DECAY_RATE / self.thickness
+
+    def surface_compliance(self, direction, kmag, mu: float = 0.0, slide=(1.0, 0.0)):
+        """H(k) = [F0 + i mu (e . n) F1] / (2|k|) (0 at k = 0), e = ``slide`` (unit vector,
+        the sliding direction: the friction drags the surface along +e for mu > 0)."""
+        kmag = np.asarray(kmag, dtype=float)
+        K = kmag * self.thickness
+        F0, F1, *_ = transfer_functions(K)
+        e_n = sum(e * n for e, n in zip(slide, direction))
+        safe = np.where(kmag > 0, kmag, 1.0)
+        H = (F0 + 1j * mu * e_n * F1) / (2.0 * safe)
+        return np.where(kmag > 0, H, 0.0)
+
+    def compliance_symbol(self, mu: float = 0.0, slide=(1.0, 0.0)):
+        """The surface compliance as a symbol function (direction, kmag) -> H, for
+        ``numerics.operators.FourierOperator``."""
+        def symbol(direction, kmag):
+            return self.surface_compliance(direction, kmag, mu, slide)
+        return symbol
+
+    def base_transfer(self, direction, kmag, szz_hat, tau_hat):
+        """Base-traction spectra from surface-traction spectra.
+
+        szz_hat : spectrum of sigma_zz(x, h) (= -p^);  tau_hat : tuple of spectra of the surface
+        shear components (sigma_xz, [sigma_yz]) at z = h, one per surface dimension (0 allowed).
+        Returns (sigma_zz^(x, 0), tuple of the base shear spectra)."""
+        K = np.asarray(kmag, dtype=float) * self.thickness
+        _, _, A, B, C = transfer_functions(K)
+        iB = 1j * B
+        tau_L = sum(n * t for n, t in zip(direction, tau_hat))
+        szz0 = A * szz_hat + iB * tau_L
+        tau_L0 = C * tau_L + iB * szz_hat
+        T = _sech(K)
+        return szz0, tuple(n * tau_L0 + T * (t - n * tau_L) for n, t in zip(direction, tau_hat))
+
+    def base_stresses(self, fft, grid, szz_surface, tau_surface):
+        """Base tractions on ``grid`` (real fields) from surface tractions (real fields on the
+        same grid): sigma_zz(x, h) and the tuple of shear components at z = h.  ``fft`` is the
+        grid's planned transform (numerics.fft.get_rfft(grid.shape)).
+        Returns (sigma_zz(x, 0), tuple of base shear fields)."""
+        szz0, tau0 = self.base_transfer(grid.direction, grid.kmag, fft.forward(szz_surface),
+                                        tuple(fft.forward(t) for t in tau_surface))
+        return fft.backward(szz0), tuple(fft.backward(t) for t in tau0)
+
+
+# --- 1D forms (plane strain, k >= 0 of the real FFT), kept for their callers ------------------
+_FILM = Film()
+_E_X = (1.0,)
+
+
 def surface_compliance(k: np.ndarray, mu: float) -> np.ndarray:
-    """H(k) on k >= 0 (dimensionless: displacement h^2/2R per stress E h/6R per 1/h)."""
-    k = np.asarray(k, dtype=float)
-    F0, F1, *_ = transfer_functions(k)
-    H = np.zeros(k.shape, dtype=complex)
-    nz = k > 0
-    H[nz] = (F0[nz] + 1j * mu * F1[nz]) / (2.0 * k[nz])
-    return H
+    """H(k) on k >= 0 in 1D (dimensionless: displacement h^2/2R per stress E h/6R per 1/h)."""
+    return _FILM.surface_compliance(_E_X, np.asarray(k, dtype=float), mu, _E_X)
 
 
 def base_stress_symbols(k: np.ndarray):
-    """(A, iB, C) on k >= 0, so that, with s = sgn(k) = +1 there,
-    sigma_zz^(0) = A szz^(1) + iB sxz^(1) and sigma_xz^(0) = C sxz^(1) + iB szz^(1)."""
+    """(A, iB, C) on k >= 0 in 1D: sigma_zz^(0) = A szz^(1) + iB sxz^(1),
+    sigma_xz^(0) = C sxz^(1) + iB szz^(1)."""
     _, _, A, B, C = transfer_functions(np.asarray(k, dtype=float))
     return A, 1j * B, C
 
 
 def base_stresses(fft, k, sigma_zz_surface, sigma_xz_surface):
-    """Base stresses sigma_zz(x, 0), sigma_xz(x, 0) on the grid from surface tractions (both real
-    arrays on the same periodic grid), through the planned transform ``fft``."""
-    A, iB, C = base_stress_symbols(k)
-    szz = fft.forward(sigma_zz_surface)
-    sxz = fft.forward(sigma_xz_surface)
-    return fft.backward(A * szz + iB * sxz), fft.backward(C * sxz + iB * szz)
+    """Base stresses sigma_zz(x, 0), sigma_xz(x, 0) of a 1D periodic grid with wavenumbers k
+    (>= 0) from the surface tractions, through the planned transform ``fft``."""
+    k = np.asarray(k, dtype=float)
+    szz0, (sxz0,) = _FILM.base_transfer(_E_X, k, fft.forward(sigma_zz_surface),
+                                        (fft.forward(sigma_xz_surface),))
+    return fft.backward(szz0), fft.backward(sxz0)
