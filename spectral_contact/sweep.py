@@ -1,0 +1,618 @@
+"""Sweeps: the Cartesian product of scene options, solved once each, on a dask.distributed engine.
+
+    >>> from spectral_contact import sweep
+    >>> df = sweep(load="20:380:40", mu=[0.3, 1, 2, 3], out="results")   # a pandas DataFrame
+
+Values (SI, the units of ``solve``): a number, a list, a comma list "0.3,1,2,3" or a range
+"start:stop:step" (stop included when it falls on the step; values are start + i step rounded to
+12 significant digits), or comma lists of those.  ``OPTIONS`` lists the options and defaults.
+
+Engines: ``engine="serial"`` solves in this process; ``engine="local"`` (default) starts a dask
+LocalCluster of ``workers`` processes (default: the machine's cores), one thread each, with
+OpenBLAS/OpenMP/MKL pinned to one thread through the workers' environment; ``scheduler=
+"tcp://HOST:PORT"`` uses a running dask cluster (its workers should be started with
+``--nthreads 1`` and ``OPENBLAS_NUM_THREADS=1``).  Tasks carry plain dicts of parameters; each
+worker process plans its own FFTs (``numerics.fft`` keeps plans per thread) and nothing but the
+parameter dict and the result row cross the wire.
+
+Results are identical bit for bit between the engines: a scene's row depends only on its
+parameters (the solver is deterministic; FFTW's default ESTIMATE planner chooses its algorithm
+from the size alone), except the timing columns ``TIMING_COLUMNS``.  With
+SPECTRAL_CONTACT_FFTW=measure, plans are chosen by timing, so two processes may round differently
+(~1e-16 relative); the same holds across machines with different SIMD units.
+
+Table (one row per scene, in the order of the Cartesian product, the first option varying
+slowest): ``key``, the options (``OPTIONS``, defaults filled in), ``status`` ("ok",
+"input_error", "not_converged", "crashed"), ``message`` (the error's first line, "" when ok),
+then every JSON key of ``solve``'s summary (``result.JSON_KEYS`` and ``auto_reason``); those whose
+name is also an option's ("model", "method", "mu") are prefixed ``solved_`` (with model="auto",
+``solved_model`` is the model chosen).  A failed scene has empty summary columns.
+
+Store (``out`` given): every finished scene is written at once to ``out/scenes/<key>.json``
+(temporary file then rename), ``key`` a hash of the sorted parameters and the package version; a
+rerun reuses every stored scene and solves only the missing ones, so Ctrl-C loses at most the
+scenes in flight.  "crashed" scenes (an unexpected exception, a dead worker) are not stored: a
+rerun retries them.  At the end: ``out/summary.csv`` (one header row: ``pandas.read_csv`` opens
+it), ``out/summary.parquet`` if pyarrow is installed, and with ``profiles=True`` the profiles of
+each solved scene in ``out/profiles/<key>.csv`` (``result.PROFILE_COLUMNS``).
+
+Needs the optional extra ``pip install 'spectral_contact[sweep]'`` (pandas; dask.distributed for
+the local and external engines).
+"""
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+import math
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from .errors import ConvergenceError, InputError
+from .physics.scene import PAPER_SCENE
+
+__all__ = ["sweep", "OPTIONS", "TIMING_COLUMNS", "STATUSES", "parse_values", "read_spec",
+           "scenes", "scene_key", "solve_row", "table_columns", "connect_scheduler"]
+
+STATUSES = ("ok", "input_error", "not_converged", "crashed")
+TIMING_COLUMNS = ("wall_time_s", "plan_time_s")
+EXTRA = "pip install 'spectral_contact[sweep]'"
+
+# name -> (type, default, unit or choices, help); the order is the column order
+OPTIONS = {
+    "load": (float, PAPER_SCENE.load, "N/m", "P_L, lineic load"),
+    "mu": (float, PAPER_SCENE.mu, "", "mu_d, friction coefficient (signed)"),
+    "young": (float, PAPER_SCENE.young, "Pa", "E, Young's modulus"),
+    "radius": (float, PAPER_SCENE.radius, "m", "R, cylinder radius"),
+    "thickness": (float, PAPER_SCENE.thickness, "m", "h, film thickness"),
+    "model": (str, "exact", ("exact", "goodman", "hertz", "auto"), "model"),
+    "method": (str, "fft", ("fft", "abel"), "method"),
+    "tol": (float, 1e-4, "", "relative accuracy target, in (0, 0.1)"),
+    "grid_points": (int, None, "", "fixed N (default: chosen from tol)"),
+    "domain_length": (float, None, "m", "fixed FFT period L (default: chosen from tol)"),
+}
+_SCENE_KEYS = ("load", "mu", "young", "radius", "thickness")
+
+
+# --- specifications -----------------------------------------------------------------------------
+def _number(name: str, text: str, kind):
+    try:
+        v = int(text) if kind is int else float(text)
+    except (TypeError, ValueError):
+        what = "an integer" if kind is int else "a number"
+        raise InputError(f"--{_flag(name)}: {text!r} is not {what} (values: v1,v2,... or "
+                         f"start:stop:step)") from None
+    if kind is float and not math.isfinite(v):
+        raise InputError(f"--{_flag(name)}: values must be finite; got {text!r}")
+    return v
+
+
+def _flag(name: str) -> str:
+    return name.replace("_", "-")
+
+
+def _range(name: str, text: str, kind) -> list:
+    parts = text.split(":")
+    if len(parts) != 3:
+        raise InputError(f"--{_flag(name)}: a range is start:stop:step; got {text!r}")
+    start, stop, step = (_number(name, p.strip(), kind) for p in parts)
+    if step <= 0:
+        raise InputError(f"--{_flag(name)}: the step of {text!r} must be > 0; got {step:g}")
+    if stop < start:
+        raise InputError(f"--{_flag(name)}: empty range {text!r} (stop < start)")
+    n = int(math.floor((stop - start) / step * (1 + 1e-12) + 1e-9)) + 1
+    if n > 1_000_000:
+        raise InputError(f"--{_flag(name)}: {text!r} has {n} values (at most 1000000)")
+    if kind is int:
+        return [start + i * step for i in range(n)]
+    return [float(f"{start + i * step:.12g}") for i in range(n)]
+
+
+def parse_values(name: str, value) -> list:
+    """The list of values of option ``name`` from a spec: a scalar, a list, or a string of comma
+    separated numbers / choices / start:stop:step ranges.  Raises InputError naming the option."""
+    if name not in OPTIONS:
+        raise InputError(f"unknown option {name!r} (accepted: {', '.join(OPTIONS)})")
+    kind, _, choices, _ = OPTIONS[name]
+    items = value if isinstance(value, (list, tuple)) else [value]
+    out = []
+    for item in items:
+        if isinstance(item, str):
+            pieces = [p.strip() for p in item.split(",")]
+            if not all(pieces):
+                raise InputError(f"--{_flag(name)}: empty value in {item!r}")
+        else:
+            pieces = [item]
+        for p in pieces:
+            if kind is str:
+                if not isinstance(p, str) or p not in choices:
+                    raise InputError(f"--{_flag(name)}: {p!r} is not one of {', '.join(choices)}")
+                out.append(p)
+            elif isinstance(p, str) and ":" in p:
+                out.extend(_range(name, p, kind))
+            elif p is None and OPTIONS[name][1] is None:
+                out.append(None)
+            elif isinstance(p, bool):
+                raise InputError(f"--{_flag(name)}: {p!r} is not a number")
+            elif kind is int and isinstance(p, float) and not p.is_integer():
+                raise InputError(f"--{_flag(name)}: {p!r} is not an integer")
+            else:
+                out.append(_number(name, p, kind))
+    if not out:
+        raise InputError(f"--{_flag(name)}: no values")
+    seen, unique = set(), []
+    for v in out:  # a value given twice is one scene
+        if v not in seen:
+            seen.add(v)
+            unique.append(v)
+    return unique
+
+
+def read_spec(path) -> dict:
+    """The options of a TOML spec file (top-level keys = option names, values as in
+    ``parse_values``: numbers, lists, or strings such as "20:380:40")."""
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10
+        raise InputError("--spec needs Python >= 3.11 (tomllib)") from None
+    try:
+        with open(path, "rb") as fh:
+            data = tomllib.load(fh)
+    except OSError as exc:
+        raise InputError(f"--spec {path}: {exc.strerror or exc}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"--spec {path}: not valid TOML ({exc})") from None
+    for k, v in data.items():
+        if k not in OPTIONS:
+            raise InputError(f"--spec {path}: unknown option {k!r} (accepted: {', '.join(OPTIONS)})")
+        if isinstance(v, dict):
+            raise InputError(f"--spec {path}: option {k!r} must be a value or a list, not a table")
+    return data
+
+
+def scenes(options: dict) -> list[dict]:
+    """The Cartesian product of the options' values, defaults filled in: a list of parameter
+    dicts (plain Python values) in ``OPTIONS`` order, the first given option varying slowest."""
+    unknown = [k for k in options if k not in OPTIONS]
+    if unknown:
+        raise InputError(f"unknown option {unknown[0]!r} (accepted: {', '.join(OPTIONS)})")
+    given = {k: parse_values(k, v) for k, v in options.items() if v is not None}
+    names = list(given)
+    rows = []
+    for combo in itertools.product(*(given[n] for n in names)):
+        p = {k: OPTIONS[k][1] for k in OPTIONS}
+        p.update(zip(names, combo))
+        rows.append({k: p[k] for k in OPTIONS})
+    return rows
+
+
+def _version() -> str:
+    from . import __version__
+
+    return __version__
+
+
+def scene_key(params: dict, version: str | None = None) -> str:
+    """The store key of a scene: sha256 of its sorted parameters and the package version."""
+    text = json.dumps({"params": params, "version": version or _version()}, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:24]
+
+
+# --- one scene ----------------------------------------------------------------------------------
+def _summary_names():
+    from .result import JSON_KEYS
+
+    return [f"solved_{k}" if k in OPTIONS else k for k in (*JSON_KEYS, "auto_reason")]
+
+
+def table_columns() -> list[str]:
+    """The table's columns, in order."""
+    return ["key", *OPTIONS, "status", "message", *_summary_names()]
+
+
+def _solve(params: dict):
+    from .api import solve
+
+    return solve(model=params["model"], method=params["method"], tol=params["tol"],
+                 grid_points=params["grid_points"], domain_length=params["domain_length"],
+                 **{k: params[k] for k in _SCENE_KEYS})
+
+
+def _task(params: dict, profiles: bool = False):
+    """Solve one scene: (row, profiles or None).  Pure: no file, no global state but the
+    per-thread FFT plans; every failure becomes a status."""
+    from .result import JSON_KEYS
+
+    status, message, summary, prof = "ok", "", {}, None
+    try:
+        r = _solve(params)
+        summary = r.summary()
+        if profiles:
+            prof = {k: v.tolist() for k, v in r.profiles().items()}
+    except InputError as exc:
+        status, message = "input_error", str(exc)
+    except ConvergenceError as exc:
+        status, message = "not_converged", str(exc)
+    except Exception as exc:  # noqa: BLE001 -- a bug or MemoryError: a row, not the end of the sweep
+        status, message = "crashed", f"{type(exc).__name__}: {exc}"
+    message = (message.splitlines() or [""])[0]
+    row = {"key": scene_key(params), **params, "status": status, "message": message}
+    for k, name in zip((*JSON_KEYS, "auto_reason"), _summary_names()):
+        row[name] = summary.get(k)
+    return row, prof
+
+
+def solve_row(params: dict) -> dict:
+    """Solve the scene of ``params`` (a dict of ``OPTIONS``, missing ones defaulted) and return
+    its table row (see the module docstring); never raises for a failing scene."""
+    p = {k: OPTIONS[k][1] for k in OPTIONS}
+    unknown = [k for k in params if k not in OPTIONS]
+    if unknown:
+        raise InputError(f"unknown option {unknown[0]!r} (accepted: {', '.join(OPTIONS)})")
+    p.update(params)
+    return _task(p)[0]
+
+
+# --- store --------------------------------------------------------------------------------------
+def _atomic_write(path: Path, write) -> None:
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name + ".", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
+            write(fh)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+
+
+class _Store:
+    """``out/scenes/<key>.json`` per finished scene; ``out/profiles/<key>.csv`` when asked."""
+
+    def __init__(self, out, profiles: bool):
+        self.out = Path(out) if out is not None else None
+        self.profiles = profiles
+        if self.out is None:
+            return
+        if self.out.exists() and not self.out.is_dir():
+            raise InputError(f"--out {out}: exists and is not a directory")
+        if not self.out.parent.is_dir():
+            raise InputError(f"--out {out}: directory {self.out.parent} does not exist")
+        self.scenes = self.out / "scenes"
+        self.prof = self.out / "profiles"
+
+    def prepare(self):
+        if self.out is not None:
+            self.scenes.mkdir(parents=True, exist_ok=True)
+            if self.profiles:
+                self.prof.mkdir(exist_ok=True)
+
+    def load(self, key: str, params: dict):
+        """The stored row of ``key``, or None (absent, unreadable, other parameters/version)."""
+        if self.out is None:
+            return None
+        try:
+            rec = json.loads((self.scenes / f"{key}.json").read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            return None
+        if (not isinstance(rec, dict) or rec.get("version") != _version()
+                or rec.get("params") != params or not isinstance(rec.get("row"), dict)):
+            return None
+        if self.profiles and rec["row"].get("status") == "ok" and not (self.prof / f"{key}.csv").is_file():
+            return None  # stored by a run without profiles: solve again for them
+        return rec["row"]
+
+    def save(self, row: dict, params: dict, prof) -> None:
+        if self.out is None or row["status"] == "crashed":
+            return
+        key = row["key"]
+        if prof is not None:
+            _atomic_write(self.prof / f"{key}.csv", lambda fh: _write_profiles(fh, prof))
+        rec = {"key": key, "version": _version(), "params": params, "row": row}
+        _atomic_write(self.scenes / f"{key}.json", lambda fh: json.dump(rec, fh, indent=1))
+
+
+def _write_profiles(fh, prof: dict) -> None:
+    names = list(prof)
+    fh.write(",".join(names) + "\n")
+    for vals in zip(*(prof[n] for n in names)):
+        fh.write(",".join(repr(float(v)) for v in vals) + "\n")
+
+
+# --- progress -----------------------------------------------------------------------------------
+class _Progress:
+    """done / total, failures, elapsed, rate, time left, on stderr (one line, redrawn on a
+    terminal; a line every 10 % otherwise)."""
+
+    def __init__(self, total: int, enabled: bool, stream=None):
+        self.total, self.enabled = total, enabled and total > 0
+        self.stream = stream or sys.stderr
+        self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
+        self.done = self.failed = 0
+        self.t0 = time.perf_counter()
+        self._last = -1.0
+        self._decile = -1
+
+    def update(self, failed: bool) -> None:
+        self.done += 1
+        self.failed += bool(failed)
+        if not self.enabled:
+            return
+        now = time.perf_counter()
+        if self.tty:
+            if self.done == self.total or now - self._last > 0.1:
+                self._last = now
+                self.stream.write("\r" + self.line(now) + "\x1b[K")
+                self.stream.flush()
+        else:
+            decile = 10 * self.done // self.total
+            if decile != self._decile or self.done == self.total:
+                self._decile = decile
+                self.stream.write(self.line(now) + "\n")
+                self.stream.flush()
+
+    def line(self, now: float) -> str:
+        el = now - self.t0
+        rate = self.done / el if el > 0 else 0.0
+        left = (self.total - self.done) / rate if rate > 0 else float("nan")
+        w = 24
+        fill = w * self.done // self.total
+        return (f"[{'#' * fill}{'-' * (w - fill)}] {self.done}/{self.total} scenes, "
+                f"{self.failed} failed, {el:.1f} s elapsed, {rate:.3g} scenes/s, "
+                f"{'?' if math.isnan(left) else f'{left:.0f}'} s left")
+
+    def close(self):
+        if self.enabled and self.tty and self.done:
+            self.stream.write("\n")
+            self.stream.flush()
+
+
+# --- engines ------------------------------------------------------------------------------------
+def _need_dask():
+    try:
+        import distributed  # noqa: F401
+    except ModuleNotFoundError:
+        raise InputError(f"the local and external engines need dask.distributed: {EXTRA} "
+                         "(or run with --serial)") from None
+
+
+WORKER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+
+
+def connect_scheduler(address: str, timeout: float = 10.0):
+    """A dask Client on a running scheduler; InputError (naming --scheduler) if unreachable."""
+    _need_dask()
+    import logging
+
+    from distributed import Client
+
+    if not isinstance(address, str) or "://" not in address and ":" not in address:
+        raise InputError(f"--scheduler must be an address such as tcp://HOST:PORT; got {address!r}")
+    logging.getLogger("distributed").setLevel(logging.CRITICAL)
+    try:
+        return Client(address, timeout=timeout, set_as_default=False)
+    except (OSError, TimeoutError, ValueError) as exc:
+        msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise InputError(f"--scheduler {address}: unreachable ({msg[:160]})") from None
+
+
+def _local_client(workers: int):
+    _need_dask()
+    import logging
+
+    from distributed import Client, LocalCluster
+
+    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                           dashboard_address=None, silence_logs=logging.ERROR, env=dict(WORKER_ENV))
+    return Client(cluster, set_as_default=False), cluster
+
+
+def _run_serial(todo, profiles, on_result):
+    for params in todo:
+        on_result(params, *_task(params, profiles))
+
+
+def _run_dask(client, todo, profiles, on_result):
+    from distributed import as_completed
+
+    by_key = {}
+    futures = []
+    for params in todo:
+        key = f"spectral-contact-scene-{scene_key(params)}"
+        by_key[key] = params
+        futures.append(client.submit(_task, params, profiles, key=key, pure=False, retries=0))
+    try:
+        for fut in as_completed(futures, loop=client.loop):
+            params = by_key[fut.key]
+            try:
+                row, prof = fut.result()
+            except Exception as exc:  # noqa: BLE001 -- a dead worker (KilledWorker), a lost task
+                row, prof = _crashed_row(params, exc), None
+            on_result(params, row, prof)
+            fut.release()
+    finally:
+        client.cancel([f for f in futures if not f.done()])
+
+
+def _crashed_row(params, exc) -> dict:
+    row = {"key": scene_key(params), **params, "status": "crashed",
+           "message": (f"{type(exc).__name__}: {exc}".splitlines() or [""])[0]}
+    for name in _summary_names():
+        row[name] = None
+    return row
+
+
+# --- the sweep ----------------------------------------------------------------------------------
+def _need_pandas():
+    try:
+        import pandas
+    except ModuleNotFoundError:
+        raise InputError(f"the sweep returns a pandas table: {EXTRA}") from None
+    return pandas
+
+
+def _default_workers() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:
+        return os.cpu_count() or 1
+
+
+def plan(spec=None, **options) -> list[dict]:
+    """The scenes of a sweep (spec file or dict, then ``options`` over it), checked."""
+    merged = {}
+    if spec is not None:
+        merged.update(read_spec(spec) if isinstance(spec, (str, os.PathLike)) else dict(spec))
+    merged.update({k: v for k, v in options.items() if v is not None})
+    return scenes(merged)
+
+
+def sweep(spec=None, *, out=None, engine: str = "local", workers: int | None = None,
+          scheduler: str | None = None, client=None, profiles: bool = False,
+          progress: bool = True, on_row=None, info: dict | None = None, **options):
+    """Solve the Cartesian product of the options' values; return the table (pandas DataFrame).
+
+    Parameters
+    ----------
+    spec : path of a TOML file or dict, optional
+        Options (``OPTIONS``); keyword ``options`` override it.
+    out : path, optional
+        Results directory: scene store (resumable), summary.csv/.parquet, profiles.  None: keep
+        nothing (no resume).
+    engine : {"local", "serial"}
+        "local": a dask LocalCluster of ``workers`` processes (default: the machine's cores);
+        "serial": this process.  Ignored when ``scheduler`` or ``client`` is given.
+    scheduler : str, optional
+        Address of a running dask scheduler ("tcp://HOST:PORT").
+    client : distributed.Client, optional
+        An existing client (left open).
+    profiles : bool
+        Also write each solved scene's profiles to ``out/profiles/<key>.csv``.
+    progress : bool
+        Progress bar and reuse note on stderr.
+    on_row : callable, optional
+        Called with each row as it finishes (after it is stored).
+    info : dict, optional
+        Filled with counts: scenes, reused, solved, statuses, engine, elapsed_s.
+    **options
+        load, mu, young, radius, thickness, model, method, tol, grid_points, domain_length: a
+        value, a list, or a string of comma lists / start:stop:step ranges (SI).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per scene (see the module docstring for the columns).
+
+    Raises
+    ------
+    InputError
+        A bad specification (empty range, step <= 0, unknown option or value, unreachable
+        scheduler, missing extra), before any scene is solved.
+    """
+    pd = _need_pandas()
+    todo_all = plan(spec, **options)
+    if engine not in ("local", "serial"):
+        raise InputError(f"engine must be 'local' or 'serial'; got {engine!r}")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise InputError(f"--workers must be an integer >= 1; got {workers!r}")
+    store = _Store(out, profiles)
+    if profiles and out is None:
+        raise InputError("--profiles needs --out DIR")
+    keys = [scene_key(p) for p in todo_all]
+    rows = {}
+    for k, p in zip(keys, todo_all):
+        if k not in rows:
+            row = store.load(k, p)
+            if row is not None:
+                rows[k] = row
+    reused = len(rows)
+    todo, seen = [], set(rows)
+    for k, p in zip(keys, todo_all):
+        if k not in seen:
+            seen.add(k)
+            todo.append(p)
+    total = len(seen)
+    own = None
+    name = "serial"
+    if todo:
+        if client is not None:
+            name = "client"
+        elif scheduler is not None:
+            client = own = connect_scheduler(scheduler)
+            name = f"scheduler {scheduler}"
+        elif engine == "local":
+            n = workers or _default_workers()
+            name = f"LocalCluster({n} workers)"
+    if progress and out is not None:
+        print(f"sweep: {total} scenes, {reused} reused from {store.scenes}, {len(todo)} to solve"
+              + (f" ({name})" if todo else ""), file=sys.stderr)
+    store.prepare()
+    cluster = None
+    bar = _Progress(len(todo), progress)
+
+    def on_result(params, row, prof):
+        store.save(row, params, prof)
+        rows[row["key"]] = row
+        bar.update(row["status"] != "ok")
+        if on_row is not None:
+            on_row(row)
+
+    t0 = time.perf_counter()
+    try:
+        if todo and name == "serial":
+            bar.t0 = time.perf_counter()
+            _run_serial(todo, profiles, on_result)
+        elif todo:
+            if client is None:
+                client, cluster = _local_client(workers or _default_workers())
+                own = client
+            bar.t0 = time.perf_counter()  # the rate and time left count solves, not start-up
+            _run_dask(client, todo, profiles, on_result)
+    finally:
+        bar.close()
+        if own is not None:
+            own.close()
+        if cluster is not None:
+            cluster.close()
+    df = pd.DataFrame([rows[k] for k in dict.fromkeys(keys)], columns=table_columns())
+    if out is not None:
+        _write_tables(df, store.out)
+    if info is not None:
+        counts = df["status"].value_counts()
+        info.update({"scenes": total, "reused": reused, "solved": len(todo), "engine": name,
+                     "statuses": {s: int(counts.get(s, 0)) for s in STATUSES},
+                     "elapsed_s": time.perf_counter() - t0})
+    return df
+
+
+def _write_tables(df, out: Path) -> None:
+    _atomic_write(out / "summary.csv", lambda fh: df.to_csv(fh, index=False))
+    try:
+        import pyarrow  # noqa: F401
+    except ModuleNotFoundError:
+        return
+    path = out / "summary.parquet"
+    fd, tmp = tempfile.mkstemp(dir=out, prefix="summary.parquet.", suffix=".tmp")
+    os.close(fd)
+    try:
+        df.to_parquet(tmp, index=False)
+        os.replace(tmp, path)
+    except BaseException:
+        os.unlink(tmp)
+        raise
+
+
+class _CallableModule(type(sys)):
+    """``spectral_contact.sweep`` is both this module and the function: once a submodule is
+    imported Python binds it as the package's attribute, so the module itself forwards calls."""
+
+    def __call__(self, *args, **kwargs):
+        return sweep(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _CallableModule
