@@ -473,7 +473,7 @@ def plan(spec=None, **options) -> list[dict]:
 
 
 def sweep(spec=None, *, out=None, engine: str = "local", workers: int | None = None,
-          scheduler: str | None = None, client=None, profiles: bool = False,
+          scheduler: str | None = None, scheduler_timeout: float = 10.0, client=None, profiles: bool = False,
           progress: bool = True, on_row=None, info: dict | None = None, **options):
     """Solve the Cartesian product of the options' values; return the table (pandas DataFrame).
 
@@ -489,6 +489,8 @@ def sweep(spec=None, *, out=None, engine: str = "local", workers: int | None = N
         "serial": this process.  Ignored when ``scheduler`` or ``client`` is given.
     scheduler : str, optional
         Address of a running dask scheduler ("tcp://HOST:PORT").
+    scheduler_timeout : float
+        Seconds to wait for the scheduler before raising InputError.
     client : distributed.Client, optional
         An existing client (left open).
     profiles : bool
@@ -543,7 +545,7 @@ def sweep(spec=None, *, out=None, engine: str = "local", workers: int | None = N
         if client is not None:
             name = "client"
         elif scheduler is not None:
-            client = own = connect_scheduler(scheduler)
+            client = own = connect_scheduler(scheduler, scheduler_timeout)
             name = f"scheduler {scheduler}"
         elif engine == "local":
             n = workers or _default_workers()

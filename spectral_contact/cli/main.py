@@ -16,7 +16,7 @@ from ..physics.scene import PAPER_SCENE
 __all__ = ["main", "build_parser"]
 
 # modules that add subcommands: each exposes register(subparsers)
-_PLUGINS = ("spectral_contact.cli.mems",)
+_PLUGINS = ("spectral_contact.cli.mems", "spectral_contact.cli.sweep")
 
 
 class _Parser(argparse.ArgumentParser):
