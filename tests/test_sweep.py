@@ -1,0 +1,282 @@
+"""Sweeps (issue 15): specs, the three engines giving one table, the store, failures, the CLI."""
+import json
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+pd = pytest.importorskip("pandas", reason="the sweep extra is not installed")
+pytest.importorskip("distributed", reason="the sweep extra is not installed")
+
+from spectral_contact import solve  # noqa: E402
+from spectral_contact import sweep as sweep_module  # noqa: E402
+from spectral_contact.cli.main import main  # noqa: E402
+from spectral_contact.errors import ConvergenceError, InputError  # noqa: E402
+from spectral_contact.result import JSON_KEYS, PROFILE_COLUMNS  # noqa: E402
+from spectral_contact.sweep import TIMING_COLUMNS, parse_values, scene_key, sweep  # noqa: E402
+
+# 12 scenes: 3 loads x 2 friction coefficients x 2 models
+SPEC = {"load": "60:300:120", "mu": "0.5,2", "model": "exact,goodman", "tol": 1e-3}
+
+
+def _untimed(df):
+    return df.drop(columns=list(TIMING_COLUMNS))
+
+
+def _same(a, b):
+    """Identical tables: same columns, same values bit for bit (NaN == NaN), timings aside."""
+    a, b = _untimed(a), _untimed(b)
+    assert list(a.columns) == list(b.columns) and len(a) == len(b)
+    for col in a.columns:
+        x, y = a[col].tolist(), b[col].tolist()
+        assert [repr(v) for v in x] == [repr(v) for v in y], col
+
+
+@pytest.fixture(scope="module")
+def serial(tmp_path_factory):
+    out = tmp_path_factory.mktemp("serial")
+    info = {}
+    df = sweep(SPEC, out=out, engine="serial", progress=False, info=info)
+    return df, out, info
+
+
+# --- specifications -----------------------------------------------------------------------------
+def test_parse_values_ranges_and_lists():
+    assert parse_values("load", "20:380:40") == [20.0 + 40 * i for i in range(10)]
+    assert parse_values("mu", "0.1:0.5:0.1") == [0.1, 0.2, 0.3, 0.4, 0.5]
+    assert parse_values("mu", "0.3,1,2,3") == [0.3, 1.0, 2.0, 3.0]
+    assert parse_values("mu", "0:1:0.5,3") == [0.0, 0.5, 1.0, 3.0]
+    assert parse_values("grid_points", "1024,4096") == [1024, 4096]
+    assert parse_values("model", ["exact", "goodman,exact"]) == ["exact", "goodman"]
+    assert parse_values("load", 200) == [200.0]
+
+
+@pytest.mark.parametrize("name, value, words", [
+    ("load", "10:1:1", "empty range"), ("load", "0:10:-1", "step"), ("load", "0:10:0", "step"),
+    ("mu", "1,,2", "empty value"), ("load", "1:2", "start:stop:step"), ("model", "foo", "--model"),
+    ("bogus", "1", "unknown option 'bogus'"), ("grid_points", "2.5", "integer"), ("tol", "nan", "finite"),
+])
+def test_bad_specs_name_the_option(name, value, words):
+    with pytest.raises(InputError, match=words):
+        parse_values(name, value)
+
+
+def test_key_depends_on_parameters_and_version():
+    p = sweep_module.scenes({})[0]
+    assert scene_key(p) == scene_key(dict(reversed(list(p.items()))))  # order does not matter
+    assert scene_key(p) != scene_key(p | {"load": 201.0})
+    assert scene_key(p) != scene_key(p, version="0.0.0")
+
+
+def test_import_spectral_contact_does_not_import_pandas_or_distributed():
+    code = ("import sys, spectral_contact; "
+            "print('pandas' in sys.modules, 'distributed' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["False", "False"]
+
+
+# --- one table, three engines -------------------------------------------------------------------
+def test_serial_table(serial):
+    df, out, info = serial
+    assert len(df) == 12 and set(df["status"]) == {"ok"} and info["solved"] == 12
+    summary = [f"solved_{k}" if k in ("model", "method", "mu", "grid_points") else k for k in JSON_KEYS]
+    assert list(df.columns[-len(summary) - 1:]) == summary + ["auto_reason"]
+    # a row is the solve of its scene
+    row = df.iloc[5]
+    r = solve(load=row["load"], mu=row["mu"], model=row["model"], tol=row["tol"]).summary()
+    for k in ("half_width_m", "contact_center_m", "indentation_m", "max_pressure_Pa"):
+        assert row[k] == r[k]
+    assert row["solved_model"] == row["model"] == "goodman" and row["solved_mu"] == row["mu"]
+    # the CSV: one header row, plain read_csv, the same numbers
+    csv = pd.read_csv(out / "summary.csv")
+    assert list(csv.columns) == list(df.columns) and len(csv) == 12
+    back = pd.read_csv(out / "summary.csv")
+    assert back["half_width_m"].tolist() == df["half_width_m"].tolist()
+    assert len(list((out / "scenes").glob("*.json"))) == 12
+
+
+def test_local_cluster_gives_the_same_table(serial, tmp_path):
+    info = {}
+    df = sweep(SPEC, out=tmp_path, workers=2, progress=False, info=info)
+    assert info["engine"] == "LocalCluster(2 workers)" and info["solved"] == 12
+    _same(df, serial[0])
+    assert _untimed(pd.read_csv(tmp_path / "summary.csv")).equals(
+        _untimed(pd.read_csv(serial[1] / "summary.csv")))
+
+
+@pytest.fixture(scope="module")
+def external_cluster(tmp_path_factory):
+    """A dask scheduler and two workers on 127.0.0.1, stopped at the end."""
+    d = tmp_path_factory.mktemp("cluster")
+    sched_file = d / "scheduler.json"
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
+    dask = [sys.executable, "-m", "distributed.cli.dask_scheduler"]
+    procs = [subprocess.Popen(dask + ["--host", "127.0.0.1", "--port", "0", "--no-dashboard",
+                                      "--scheduler-file", str(sched_file), "--idle-timeout", "300"],
+                              env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    try:
+        t0 = time.time()
+        while not sched_file.exists() and time.time() - t0 < 60:
+            time.sleep(0.1)
+        address = json.loads(sched_file.read_text())["address"]
+        for _ in range(2):
+            procs.append(subprocess.Popen(
+                [sys.executable, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1",
+                 "--no-nanny", "--no-dashboard", "--host", "127.0.0.1", "--death-timeout", "60"],
+                env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+        from distributed import Client
+
+        with Client(address, timeout=30) as c:
+            c.wait_for_workers(2, timeout=60)
+        yield address
+    finally:
+        for p in reversed(procs):
+            p.terminate()
+        for p in reversed(procs):
+            try:
+                p.wait(timeout=20)
+            except subprocess.TimeoutExpired:
+                p.kill()
+                p.wait()
+
+
+def test_external_cluster_gives_the_same_table(serial, external_cluster, tmp_path):
+    info = {}
+    df = sweep(SPEC, out=tmp_path, scheduler=external_cluster, progress=False, info=info)
+    assert info["engine"] == f"scheduler {external_cluster}" and info["solved"] == 12
+    _same(df, serial[0])
+
+
+# --- the store ----------------------------------------------------------------------------------
+def test_second_run_reuses_every_scene(serial, monkeypatch, capsys):
+    df, out, _ = serial
+
+    def no_solve(params):
+        raise AssertionError("a stored scene was solved again")
+
+    monkeypatch.setattr(sweep_module, "_solve", no_solve)
+    info = {}
+    again = sweep(SPEC, out=out, engine="serial", info=info)
+    assert info["reused"] == 12 and info["solved"] == 0
+    assert "12 reused" in capsys.readouterr().err
+    _same(again, df)
+    assert again[list(TIMING_COLUMNS)].equals(df[list(TIMING_COLUMNS)])  # the stored rows
+
+
+def test_interrupted_sweep_resumes(serial, tmp_path):
+    done = []
+
+    def stop_after_5(row):
+        done.append(row["key"])
+        if len(done) == 5:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        sweep(SPEC, out=tmp_path, engine="serial", progress=False, on_row=stop_after_5)
+    assert not (tmp_path / "summary.csv").exists()
+    assert sorted(p.stem for p in (tmp_path / "scenes").glob("*.json")) == sorted(done)
+    info = {}
+    df = sweep(SPEC, out=tmp_path, engine="serial", progress=False, info=info)
+    assert (info["reused"], info["solved"]) == (5, 7)
+    _same(df, serial[0])
+    # lost scene files (and a corrupt one) are solved again
+    files = sorted((tmp_path / "scenes").glob("*.json"))
+    files[0].unlink()
+    files[1].unlink()
+    files[2].write_text("{not json")
+    df = sweep(SPEC, out=tmp_path, engine="serial", progress=False, info=info)
+    assert (info["reused"], info["solved"]) == (9, 3)
+    _same(df, serial[0])
+    assert not list((tmp_path / "scenes").glob("*.tmp"))
+
+
+def test_failing_scenes_are_rows(tmp_path, monkeypatch):
+    real = sweep_module._solve
+
+    def flaky(params):
+        if params["load"] < 0:
+            return real(params)
+        if params["mu"] == 1.0:
+            raise ConvergenceError("contact iteration did not converge (residual 1e-2)")
+        if params["mu"] == 3.0:
+            raise RuntimeError("boom\nsecond line")
+        return real(params)
+
+    monkeypatch.setattr(sweep_module, "_solve", flaky)
+    info = {}
+    df = sweep(load="-5,100", mu="0,1,3", tol=1e-3, out=tmp_path, engine="serial",
+               progress=False, info=info)
+    st = dict(zip(zip(df["load"], df["mu"]), df["status"]))
+    assert st[(-5.0, 0.0)] == "input_error" and st[(100.0, 0.0)] == "ok"
+    assert st[(100.0, 1.0)] == "not_converged" and st[(100.0, 3.0)] == "crashed"
+    bad = df[df["load"] == -5.0].iloc[0]
+    assert "load" in bad["message"] and np.isnan(bad["half_width_m"])
+    assert df[df["mu"] == 3.0]["message"].iloc[1] == "RuntimeError: boom"
+    assert info["statuses"] == {"ok": 1, "input_error": 3, "not_converged": 1, "crashed": 1}
+    # crashed scenes are not stored: a rerun retries them (and only them)
+    monkeypatch.setattr(sweep_module, "_solve", real)
+    df = sweep(load="-5,100", mu="0,1,3", tol=1e-3, out=tmp_path, engine="serial",
+               progress=False, info=info)
+    assert (info["reused"], info["solved"]) == (5, 1)
+    assert df[df["load"] == 100.0]["status"].tolist() == ["ok", "not_converged", "ok"]
+    csv = pd.read_csv(tmp_path / "summary.csv")
+    assert csv["status"].tolist() == df["status"].tolist()
+
+
+def test_profiles(tmp_path):
+    df = sweep(load="100,200", mu=2.0, tol=1e-3, out=tmp_path, engine="serial",
+               profiles=True, progress=False)
+    key = df["key"].iloc[1]
+    prof = pd.read_csv(tmp_path / "profiles" / f"{key}.csv")
+    assert list(prof.columns) == list(PROFILE_COLUMNS)
+    ref = solve(load=200.0, mu=2.0, tol=1e-3).profiles()
+    for c in PROFILE_COLUMNS:
+        assert np.array_equal(prof[c].to_numpy(), ref[c])
+
+
+def test_parquet_when_pyarrow_is_installed(serial):
+    pytest.importorskip("pyarrow")
+    pq = pd.read_parquet(serial[1] / "summary.parquet")
+    _same(pq, serial[0])
+
+
+# --- the command line ---------------------------------------------------------------------------
+def test_cli_sweep_with_spec_file(tmp_path, capsys):
+    spec = tmp_path / "s.toml"
+    spec.write_text('load = "60:300:120"\nmu = [0.5, 2]\nmodel = ["exact"]\ntol = 1e-3\n')
+    out = tmp_path / "res"
+    assert main(["sweep", "--spec", str(spec), "--model", "exact,goodman", "--serial",
+                 "--out", str(out), "--json"]) == 0
+    cap = capsys.readouterr()
+    rec = json.loads(cap.out)
+    assert rec["scenes"] == 12 and rec["statuses"]["ok"] == 12 and cap.err == ""
+    df = pd.read_csv(out / "summary.csv")
+    assert sorted(set(df["model"])) == ["exact", "goodman"] and len(df) == 12
+    assert main(["sweep", "--spec", str(spec), "--serial", "--out", str(out)]) == 0
+    cap = capsys.readouterr()
+    assert "6 reused, 0 solved" in cap.out and "6 reused" in cap.err
+
+
+@pytest.mark.parametrize("argv", [
+    ["--load", "10:1:1"], ["--load", "0:10:-5"], ["--mu", "0:1:0"], ["--bogus", "1"],
+    ["--model", "foo"], ["--load", "abc"], ["--workers", "0"], ["--spec", "SPEC"],
+    ["--spec", "missing.toml"], ["--scheduler", "tcp://127.0.0.1:9", "--scheduler-timeout", "1"],
+])
+def test_cli_bad_specs_exit_2_before_any_solve(argv, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "bad.toml").write_text("load = 200\nfriction = 2\n")
+    argv = [a.replace("SPEC", "bad.toml") for a in argv]
+    before = set(tmp_path.iterdir())
+
+    def no_solve(params):
+        raise AssertionError("solved before the spec was checked")
+
+    monkeypatch.setattr(sweep_module, "_solve", no_solve)
+    assert main(["sweep", "--serial" if "--scheduler" not in argv and "--workers" not in argv
+                 else "--json", *argv, "--out", "res"]) == 2
+    assert set(tmp_path.iterdir()) == before  # nothing written
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "Traceback" not in err
