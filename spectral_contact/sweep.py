@@ -55,7 +55,7 @@ from .errors import ConvergenceError, InputError
 from .physics.scene import PAPER_SCENE
 
 __all__ = ["sweep", "OPTIONS", "TIMING_COLUMNS", "STATUSES", "parse_values", "read_spec",
-           "scenes", "scene_key", "solve_row", "table_columns", "connect_scheduler"]
+           "scenes", "scene_key", "solve_row", "table_columns", "connect_scheduler", "local_client"]
 
 STATUSES = ("ok", "input_error", "not_converged", "crashed")
 TIMING_COLUMNS = ("wall_time_s", "plan_time_s")
@@ -401,8 +401,11 @@ def connect_scheduler(address: str, timeout: float = 10.0):
         raise InputError(f"--scheduler {address}: unreachable ({msg[:160]})") from None
 
 
-def _local_client(workers: int):
+def local_client(workers: int | None = None):
+    """A dask LocalCluster of ``workers`` processes (default: the cores), one thread each, BLAS
+    pinned to one thread; returns (client, cluster): close both when done."""
     _need_dask()
+    workers = workers or _default_workers()
     import logging
 
     from distributed import Client, LocalCluster
@@ -417,26 +420,66 @@ def _run_serial(todo, profiles, on_result):
         on_result(params, *_task(params, profiles))
 
 
+def _task_batch(batch: list, profiles: bool = False) -> list:
+    """Solve a list of scenes in one task: [(row, profiles or None), ...]."""
+    return [_task(p, profiles) for p in batch]
+
+
+TASK_SECONDS = 0.25   # scenes are batched into tasks of about this many seconds of solving
+MAX_BATCH = 32
+
+
 def _run_dask(client, todo, profiles, on_result):
+    """Submit the scenes in batches (one scene per task until solve times are known, then
+    batches of ~TASK_SECONDS: 2D scenes of milliseconds go by tens, so dask's ~1-2 ms per task
+    stays small; scenes of seconds go one by one), keeping 4 tasks per worker thread in flight;
+    each row is handed to ``on_result`` as its task returns."""
+    import statistics
+    from collections import deque
+
     from distributed import as_completed
 
-    by_key = {}
-    futures = []
-    for params in todo:
-        key = f"spectral-contact-scene-{scene_key(params)}"
-        by_key[key] = params
-        futures.append(client.submit(_task, params, profiles, key=key, pure=False, retries=0))
+    threads = max(1, sum(client.nthreads().values()))
+    queue = deque(todo)
+    pending = {}
+    seconds = []   # solve + planning time of the scenes seen
+    ac = as_completed(loop=client.loop)
+    submitted = [0]
+
+    def batch_size():
+        if len(seconds) < threads:
+            return 1
+        b = int(TASK_SECONDS / max(statistics.median(seconds[-64:]), 1e-6))
+        return max(1, min(b, MAX_BATCH, len(queue) // (2 * threads)))
+
+    def submit():
+        batch = [queue.popleft() for _ in range(min(batch_size(), len(queue)))]
+        key = f"spectral-contact-scenes-{scene_key(batch[0])}-{len(batch)}"
+        fut = client.submit(_task_batch, batch, profiles, key=key, pure=False, retries=0)
+        pending[fut.key] = (fut, batch)
+        ac.add(fut)
+        submitted[0] += 1
+
     try:
-        for fut in as_completed(futures, loop=client.loop):
-            params = by_key[fut.key]
+        for _ in range(min(4 * threads, len(queue))):
+            submit()
+        for fut in ac:
+            _, batch = pending.pop(fut.key)
             try:
-                row, prof = fut.result()
+                results = fut.result()
             except Exception as exc:  # noqa: BLE001 -- a dead worker (KilledWorker), a lost task
-                row, prof = _crashed_row(params, exc), None
-            on_result(params, row, prof)
+                results = [(_crashed_row(p, exc), None) for p in batch]
             fut.release()
+            if queue:
+                submit()
+            for params, (row, prof) in zip(batch, results):
+                if row["status"] == "ok":
+                    seconds.append(row["wall_time_s"] + row["plan_time_s"])
+                on_result(params, row, prof)
     finally:
-        client.cancel([f for f in futures if not f.done()])
+        if pending:
+            client.cancel([f for f, _ in pending.values()])
+    return submitted[0]
 
 
 def _crashed_row(params, exc) -> dict:
@@ -500,7 +543,8 @@ def sweep(spec=None, *, out=None, engine: str = "local", workers: int | None = N
     on_row : callable, optional
         Called with each row as it finishes (after it is stored).
     info : dict, optional
-        Filled with counts: scenes, reused, solved, statuses, engine, elapsed_s.
+        Filled with counts: scenes, reused, solved, statuses, engine, dask_tasks (scenes are
+        batched into tasks of ~TASK_SECONDS), elapsed_s.
     **options
         load, mu, young, radius, thickness, model, method, tol, grid_points, domain_length: a
         value, a list, or a string of comma lists / start:stop:step ranges (SI).
@@ -565,16 +609,17 @@ def sweep(spec=None, *, out=None, engine: str = "local", workers: int | None = N
             on_row(row)
 
     t0 = time.perf_counter()
+    tasks = 0
     try:
         if todo and name == "serial":
             bar.t0 = time.perf_counter()
             _run_serial(todo, profiles, on_result)
         elif todo:
             if client is None:
-                client, cluster = _local_client(workers or _default_workers())
+                client, cluster = local_client(workers)
                 own = client
             bar.t0 = time.perf_counter()  # the rate and time left count solves, not start-up
-            _run_dask(client, todo, profiles, on_result)
+            tasks = _run_dask(client, todo, profiles, on_result)
     finally:
         bar.close()
         if own is not None:
@@ -587,6 +632,7 @@ def sweep(spec=None, *, out=None, engine: str = "local", workers: int | None = N
     if info is not None:
         counts = df["status"].value_counts()
         info.update({"scenes": total, "reused": reused, "solved": len(todo), "engine": name,
+                     "dask_tasks": tasks,
                      "statuses": {s: int(counts.get(s, 0)) for s in STATUSES},
                      "elapsed_s": time.perf_counter() - t0})
     return df
