@@ -410,8 +410,11 @@ def local_client(workers: int | None = None):
 
     from distributed import Client, LocalCluster
 
+    # on 127.0.0.1 only; no dashboard; the scheduler's health page on a free port (not 8787)
     cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                           dashboard_address=None, silence_logs=logging.ERROR, env=dict(WORKER_ENV))
+                           host="127.0.0.1", dashboard_address=None,
+                           scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0"},
+                           silence_logs=logging.CRITICAL, env=dict(WORKER_ENV))
     return Client(cluster, set_as_default=False), cluster
 
 
@@ -442,6 +445,7 @@ def _run_dask(client, todo, profiles, on_result):
     threads = max(1, sum(client.nthreads().values()))
     queue = deque(todo)
     pending = {}
+    alone = deque()
     seconds = []   # solve + planning time of the scenes seen
     ac = as_completed(loop=client.loop)
     submitted = [0]
@@ -453,8 +457,11 @@ def _run_dask(client, todo, profiles, on_result):
         return max(1, min(b, MAX_BATCH, len(queue) // (2 * threads)))
 
     def submit():
-        batch = [queue.popleft() for _ in range(min(batch_size(), len(queue)))]
-        key = f"spectral-contact-scenes-{scene_key(batch[0])}-{len(batch)}"
+        if alone:  # scenes of a batch whose worker died: one per task, to find the culprit
+            batch = [alone.popleft()]
+        else:
+            batch = [queue.popleft() for _ in range(min(batch_size(), len(queue)))]
+        key = f"spectral-contact-{submitted[0]}-{len(batch)}-scenes-{scene_key(batch[0])}"
         fut = client.submit(_task_batch, batch, profiles, key=key, pure=False, retries=0)
         pending[fut.key] = (fut, batch)
         ac.add(fut)
@@ -468,9 +475,15 @@ def _run_dask(client, todo, profiles, on_result):
             try:
                 results = fut.result()
             except Exception as exc:  # noqa: BLE001 -- a dead worker (KilledWorker), a lost task
-                results = [(_crashed_row(p, exc), None) for p in batch]
+                fut.release()
+                if len(batch) > 1:
+                    alone.extend(batch)
+                    for _ in batch:
+                        submit()
+                    continue
+                results = [(_crashed_row(batch[0], exc), None)]
             fut.release()
-            if queue:
+            if queue or alone:
                 submit()
             for params, (row, prof) in zip(batch, results):
                 if row["status"] == "ok":
@@ -484,7 +497,7 @@ def _run_dask(client, todo, profiles, on_result):
 
 def _crashed_row(params, exc) -> dict:
     row = {"key": scene_key(params), **params, "status": "crashed",
-           "message": (f"{type(exc).__name__}: {exc}".splitlines() or [""])[0]}
+           "message": (f"{type(exc).__name__}: {exc}".splitlines() or [""])[0][:300]}
     for name in _summary_names():
         row[name] = None
     return row

@@ -280,3 +280,61 @@ def test_cli_bad_specs_exit_2_before_any_solve(argv, tmp_path, monkeypatch, caps
     assert set(tmp_path.iterdir()) == before  # nothing written
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "Traceback" not in err
+
+
+# --- dask: a dead worker, Ctrl-C ----------------------------------------------------------------
+def test_a_scene_that_kills_its_worker_is_a_crashed_row(tmp_path):
+    from distributed.diagnostics.plugin import WorkerPlugin
+
+    from spectral_contact.sweep import local_client
+
+    class KillOnOneScene(WorkerPlugin):  # defined here: shipped to the workers by value
+        def setup(self, worker):
+            import spectral_contact.sweep as m
+
+            real = m._solve
+
+            def deadly(p):
+                if p["mu"] == 2.0 and p["load"] == 180.0:
+                    os._exit(1)
+                return real(p)
+
+            m._solve = deadly
+
+    client, cluster = local_client(2)
+    try:
+        client.register_plugin(KillOnOneScene())
+        info = {}
+        df = sweep(SPEC, client=client, out=tmp_path, progress=False, info=info)
+    finally:
+        client.close()
+        cluster.close()
+    culprits = (df["load"] == 180.0) & (df["mu"] == 2.0)
+    assert len(df) == 12 and (df.loc[culprits, "status"] == "crashed").all()
+    # dask counts a death against every task the worker held: a neighbour may be crashed too
+    crashed = df[df["status"] == "crashed"]
+    assert crashed["message"].str.startswith("KilledWorker").all()
+    assert set(df["status"]) == {"ok", "crashed"} and info["statuses"]["ok"] >= 6
+    stored = {p.stem for p in (tmp_path / "scenes").glob("*.json")}
+    assert stored == set(df.loc[df["status"] == "ok", "key"])  # crashed: not stored
+    # a rerun (here serial, without the killer) solves exactly the crashed scenes
+    df = sweep(SPEC, out=tmp_path, engine="serial", progress=False, info=info)
+    assert (info["reused"], info["solved"]) == (12 - len(crashed), len(crashed))
+    assert set(df["status"]) == {"ok"}
+
+
+def test_interrupted_dask_sweep_keeps_finished_scenes(serial, tmp_path):
+    done = []
+
+    def stop_after_4(row):
+        done.append(row["key"])
+        if len(done) == 4:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        sweep(SPEC, out=tmp_path, workers=2, progress=False, on_row=stop_after_4)
+    assert sorted(p.stem for p in (tmp_path / "scenes").glob("*.json")) == sorted(done)
+    info = {}
+    df = sweep(SPEC, out=tmp_path, engine="serial", progress=False, info=info)
+    assert (info["reused"], info["solved"]) == (4, 8)
+    _same(df, serial[0])
