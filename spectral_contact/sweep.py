@@ -55,7 +55,8 @@ from .errors import ConvergenceError, InputError
 from .physics.scene import PAPER_SCENE
 
 __all__ = ["sweep", "OPTIONS", "TIMING_COLUMNS", "STATUSES", "parse_values", "read_spec",
-           "scenes", "scene_key", "solve_row", "table_columns", "connect_scheduler", "local_client"]
+           "scenes", "scene_key", "solve_row", "table_columns", "connect_scheduler", "local_client",
+           "map_tasks"]
 
 STATUSES = ("ok", "input_error", "not_converged", "crashed")
 TIMING_COLUMNS = ("wall_time_s", "plan_time_s")
@@ -329,8 +330,8 @@ class _Progress:
     """done / total, failures, elapsed, rate, time left, on stderr (one line, redrawn on a
     terminal; a line every 10 % otherwise)."""
 
-    def __init__(self, total: int, enabled: bool, stream=None):
-        self.total, self.enabled = total, enabled and total > 0
+    def __init__(self, total: int, enabled: bool, stream=None, unit: str = "scenes"):
+        self.total, self.enabled, self.unit = total, enabled and total > 0, unit
         self.stream = stream or sys.stderr
         self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
         self.done = self.failed = 0
@@ -362,8 +363,8 @@ class _Progress:
         left = (self.total - self.done) / rate if rate > 0 else float("nan")
         w = 24
         fill = w * self.done // self.total
-        return (f"[{'#' * fill}{'-' * (w - fill)}] {self.done}/{self.total} scenes, "
-                f"{self.failed} failed, {el:.1f} s elapsed, {rate:.3g} scenes/s, "
+        return (f"[{'#' * fill}{'-' * (w - fill)}] {self.done}/{self.total} {self.unit}, "
+                f"{self.failed} failed, {el:.1f} s elapsed, {rate:.3g} {self.unit}/s, "
                 f"{'?' if math.isnan(left) else f'{left:.0f}'} s left")
 
     def close(self):
@@ -649,6 +650,75 @@ def sweep(spec=None, *, out=None, engine: str = "local", workers: int | None = N
                      "statuses": {s: int(counts.get(s, 0)) for s in STATUSES},
                      "elapsed_s": time.perf_counter() - t0})
     return df
+
+
+def _have_dask() -> bool:
+    try:
+        import distributed  # noqa: F401
+    except ModuleNotFoundError:
+        return False
+    return True
+
+
+def map_tasks(func, items, *, engine: str = "auto", workers: int | None = None,
+              scheduler: str | None = None, client=None, progress: bool = True,
+              unit: str = "tasks") -> list:
+    """``[func(item) for item in items]`` on a sweep engine, for studies whose points are more
+    than one ``solve`` (no store, no table): results in the order of ``items``.
+
+    ``func`` must be importable by the workers (a module-level function of an installed module:
+    it is pickled by reference) and deterministic; ``items`` plain data.  ``engine``: "local"
+    (a LocalCluster of ``workers`` processes), "serial", or "auto" (local if dask.distributed is
+    installed, else serial); ``scheduler`` / ``client`` as in ``sweep``.  An exception in a task
+    is raised here (the remaining tasks are cancelled).  Progress bar on stderr unless
+    ``progress`` is false.
+    """
+    items = list(items)
+    if engine not in ("auto", "local", "serial"):
+        raise InputError(f"engine must be 'auto', 'local' or 'serial'; got {engine!r}")
+    if engine == "auto":
+        engine = "local" if _have_dask() else "serial"
+    bar = _Progress(len(items), progress, unit=unit)
+    results = [None] * len(items)
+    if client is None and scheduler is None and engine == "serial":
+        try:
+            for i, item in enumerate(items):
+                results[i] = func(item)
+                bar.update(False)
+        finally:
+            bar.close()
+        return results
+    own = cluster = None
+    futures, pending = [], {}
+    try:
+        if client is None:
+            if scheduler is not None:
+                client = own = connect_scheduler(scheduler)
+            else:
+                client, cluster = local_client(workers)
+                own = client
+        from distributed import as_completed
+
+        bar.t0 = time.perf_counter()
+        tag = hashlib.sha256(repr((func.__module__, func.__qualname__, time.time_ns())).encode()).hexdigest()[:12]
+        pending = {}
+        for i, item in enumerate(items):
+            fut = client.submit(func, item, key=f"spectral-contact-map-{tag}-{i}", pure=False)
+            pending[fut.key] = (fut, i)
+            futures.append(fut)
+        for fut in as_completed(futures, loop=client.loop):
+            results[pending.pop(fut.key)[1]] = fut.result()
+            bar.update(False)
+            fut.release()
+    finally:
+        bar.close()
+        if futures and pending:
+            client.cancel([f for f, _ in pending.values()])
+        if own is not None:
+            own.close()
+        if cluster is not None:
+            cluster.close()
+    return results
 
 
 def _write_tables(df, out: Path) -> None:

@@ -338,3 +338,21 @@ def test_interrupted_dask_sweep_keeps_finished_scenes(serial, tmp_path):
     df = sweep(SPEC, out=tmp_path, engine="serial", progress=False, info=info)
     assert (info["reused"], info["solved"]) == (4, 8)
     _same(df, serial[0])
+
+
+def test_map_tasks_keeps_order_and_raises(tmp_path):
+    import math
+
+    from spectral_contact.sweep import local_client, map_tasks
+
+    items = [7, 3, 12, 0, 5]
+    expected = [math.factorial(n) for n in items]
+    assert map_tasks(math.factorial, items, engine="serial", progress=False) == expected
+    client, cluster = local_client(2)
+    try:
+        assert map_tasks(math.factorial, items, client=client, progress=False) == expected
+        with pytest.raises(ValueError):
+            map_tasks(math.factorial, [1, -1, 2], client=client, progress=False)
+    finally:
+        client.close()
+        cluster.close()
