@@ -19,7 +19,9 @@ Results are identical bit for bit between the engines: a scene's row depends onl
 parameters (the solver is deterministic; FFTW's default ESTIMATE planner chooses its algorithm
 from the size alone), except the timing columns ``TIMING_COLUMNS``.  With
 SPECTRAL_CONTACT_FFTW=measure, plans are chosen by timing, so two processes may round differently
-(~1e-16 relative); the same holds across machines with different SIMD units.
+(~1e-16 relative); the same holds across machines with different SIMD units.  The serial engine
+runs under this process's BLAS threading: set OPENBLAS_NUM_THREADS=1 before Python starts, as
+the workers do (OpenBLAS splits long dot products between threads, from 10^4 points on).
 
 Table (one row per scene, in the order of the Cartesian product, the first option varying
 slowest): ``key``, the options (``OPTIONS``, defaults filled in), ``status`` ("ok",
@@ -72,8 +74,8 @@ OPTIONS = {
     "model": (str, "exact", ("exact", "goodman", "hertz", "auto"), "model"),
     "method": (str, "fft", ("fft", "abel"), "method"),
     "tol": (float, 1e-4, "", "relative accuracy target, in (0, 0.1)"),
-    "grid_points": (int, None, "", "fixed N (default: chosen from tol)"),
-    "domain_length": (float, None, "m", "fixed FFT period L (default: chosen from tol)"),
+    "grid_points": (int, None, "", "fixed N (grid points or Abel nodes)"),
+    "domain_length": (float, None, "m", "fixed FFT period L"),
 }
 _SCENE_KEYS = ("load", "mu", "young", "radius", "thickness")
 
@@ -157,8 +159,11 @@ def read_spec(path) -> dict:
     ``parse_values``: numbers, lists, or strings such as "20:380:40")."""
     try:
         import tomllib
-    except ModuleNotFoundError:  # Python 3.10
-        raise InputError("--spec needs Python >= 3.11 (tomllib)") from None
+    except ModuleNotFoundError:  # Python 3.10: the same parser as the tomli package
+        try:
+            import tomli as tomllib
+        except ModuleNotFoundError:
+            raise InputError("--spec needs Python >= 3.11 (tomllib) or the tomli package") from None
     try:
         with open(path, "rb") as fh:
             data = tomllib.load(fh)
@@ -597,22 +602,19 @@ def sweep(spec=None, *, out=None, engine: str = "local", workers: int | None = N
             seen.add(k)
             todo.append(p)
     total = len(seen)
-    own = None
+    own = cluster = None
     name = "serial"
-    if todo:
+    t0 = time.perf_counter()
+    if todo:  # the engine before anything is written: a missing extra, an unreachable scheduler
         if client is not None:
             name = "client"
         elif scheduler is not None:
             client = own = connect_scheduler(scheduler, scheduler_timeout)
             name = f"scheduler {scheduler}"
         elif engine == "local":
+            _need_dask()
             n = workers or _default_workers()
             name = f"LocalCluster({n} workers)"
-    if progress and out is not None:
-        print(f"sweep: {total} scenes, {reused} reused from {store.scenes}, {len(todo)} to solve"
-              + (f" ({name})" if todo else ""), file=sys.stderr)
-    store.prepare()
-    cluster = None
     bar = _Progress(len(todo), progress)
 
     def on_result(params, row, prof):
@@ -622,17 +624,19 @@ def sweep(spec=None, *, out=None, engine: str = "local", workers: int | None = N
         if on_row is not None:
             on_row(row)
 
-    t0 = time.perf_counter()
     tasks = 0
     try:
+        if todo and name.startswith("LocalCluster"):
+            client, cluster = local_client(workers)
+            own = client
+        if progress and out is not None:
+            print(f"sweep: {total} scenes, {reused} reused from {store.scenes}, {len(todo)} to "
+                  f"solve" + (f" ({name})" if todo else ""), file=sys.stderr)
+        store.prepare()
+        bar.t0 = time.perf_counter()  # the rate and time left count solves, not start-up
         if todo and name == "serial":
-            bar.t0 = time.perf_counter()
             _run_serial(todo, profiles, on_result)
         elif todo:
-            if client is None:
-                client, cluster = local_client(workers)
-                own = client
-            bar.t0 = time.perf_counter()  # the rate and time left count solves, not start-up
             tasks = _run_dask(client, todo, profiles, on_result)
     finally:
         bar.close()

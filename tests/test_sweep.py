@@ -356,3 +356,18 @@ def test_map_tasks_keeps_order_and_raises(tmp_path):
     finally:
         client.close()
         cluster.close()
+
+
+def test_missing_extra_is_one_line_naming_it(tmp_path, monkeypatch, capsys):
+    monkeypatch.setitem(sys.modules, "distributed", None)  # as if dask.distributed were absent
+    assert main(["sweep", "--load", "100", "--tol", "1e-3", "--workers", "2",
+                 "--out", str(tmp_path / "a")]) == 2
+    err = capsys.readouterr().err
+    assert "spectral_contact[sweep]" in err and "--serial" in err and len(err.splitlines()) == 1
+    assert not (tmp_path / "a").exists()
+    assert main(["sweep", "--load", "100", "--tol", "1e-3", "--serial", "--json",
+                 "--out", str(tmp_path / "b")]) == 0  # serial needs pandas only
+    monkeypatch.setitem(sys.modules, "pandas", None)
+    assert main(["sweep", "--load", "100", "--serial", "--out", str(tmp_path / "c")]) == 2
+    assert "spectral_contact[sweep]" in capsys.readouterr().err
+    assert not (tmp_path / "c").exists()

@@ -33,7 +33,8 @@ def register(subparsers) -> None:
         if isinstance(unit, tuple):
             h = f"{text}: {','.join(unit)} (default {default})"
         else:
-            h = f"{text}{f' [{unit}]' if unit else ''} (default {'auto' if default is None else f'{default:g}'})"
+            d = "chosen from --tol" if default is None else f"{default:g}"
+            h = f"{text}{f' [{unit}]' if unit else ''} (default {d})"
         p.add_argument(f"--{name.replace('_', '-')}", dest=name, metavar="VALUES", default=None, help=h)
     p.add_argument("--spec", metavar="FILE.toml", default=None,
                    help="options in a TOML file (option = value, list or \"start:stop:step\"); "
