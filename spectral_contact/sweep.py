@@ -58,6 +58,7 @@ from .physics.scene import PAPER_SCENE
 
 __all__ = ["sweep", "OPTIONS", "TIMING_COLUMNS", "STATUSES", "parse_values", "read_spec",
            "scenes", "scene_key", "solve_row", "table_columns", "connect_scheduler", "local_client",
+           "check_workers",
            "map_tasks"]
 
 STATUSES = ("ok", "input_error", "not_converged", "crashed")
@@ -407,6 +408,32 @@ def connect_scheduler(address: str, timeout: float = 10.0):
         raise InputError(f"--scheduler {address}: unreachable ({msg[:160]})") from None
 
 
+def _worker_version():
+    try:
+        from spectral_contact import __version__
+    except Exception as exc:  # noqa: BLE001 -- reported to the client as the reason
+        return f"cannot import spectral_contact ({type(exc).__name__}: {exc})"
+    return __version__
+
+
+def check_workers(client, what: str, timeout: float = 10.0) -> int:
+    """Wait (up to ``timeout`` s) for at least one worker and check that every worker runs this
+    package version (a scene's key holds the version); returns the worker threads.  InputError
+    naming ``what`` otherwise."""
+    t_end = time.monotonic() + timeout
+    while not client.nthreads():
+        if time.monotonic() > t_end:
+            raise InputError(f"{what}: no workers joined the scheduler in {timeout:g} s")
+        time.sleep(0.1)
+    versions = client.run(_worker_version)
+    mine = _version()
+    for addr, v in sorted(versions.items()):
+        if v != mine:
+            raise InputError(f"{what}: worker {addr} runs spectral_contact {v} (this is {mine}); "
+                             "install the same version on every worker")
+    return sum(client.nthreads().values())
+
+
 def local_client(workers: int | None = None):
     """A dask LocalCluster of ``workers`` processes (default: the cores), one thread each, BLAS
     pinned to one thread; returns (client, cluster): close both when done."""
@@ -436,6 +463,35 @@ def _task_batch(batch: list, profiles: bool = False) -> list:
 
 TASK_SECONDS = 0.25   # scenes are batched into tasks of about this many seconds of solving
 MAX_BATCH = 32
+
+
+NO_WORKER_SECONDS = 60.0   # a cluster without any worker for this long ends the wait
+
+
+class NoWorkersError(RuntimeError):
+    pass
+
+
+def _completions(client, ac):
+    """The futures of ``ac`` as they complete (futures added meanwhile included); raises
+    NoWorkersError when the cluster has had no worker for NO_WORKER_SECONDS (dask would wait
+    forever: a LocalCluster whose workers keep dying may stop restarting them)."""
+    last_check, idle_since = time.monotonic(), None
+    while not ac.is_empty():
+        ready = ac.next_batch(block=False)
+        if ready:
+            yield from ready
+            continue
+        time.sleep(0.005)
+        now = time.monotonic()
+        if now - last_check >= 1.0:
+            last_check = now
+            if client.nthreads():
+                idle_since = None
+            elif idle_since is None:
+                idle_since = now
+            elif now - idle_since > NO_WORKER_SECONDS:
+                raise NoWorkersError(f"the cluster has had no worker for {NO_WORKER_SECONDS:g} s")
 
 
 def _run_dask(client, todo, profiles, on_result):
@@ -473,28 +529,38 @@ def _run_dask(client, todo, profiles, on_result):
         ac.add(fut)
         submitted[0] += 1
 
+    def handle(fut):
+        _, batch = pending.pop(fut.key)
+        try:
+            results = fut.result()
+        except Exception as exc:  # noqa: BLE001 -- a dead worker (KilledWorker), a lost task
+            fut.release()
+            if len(batch) > 1:
+                alone.extend(batch)
+                for _ in batch:
+                    submit()
+                return
+            results = [(_crashed_row(batch[0], exc), None)]
+        fut.release()
+        if queue or alone:
+            submit()
+        for params, (row, prof) in zip(batch, results):
+            if row["status"] == "ok":
+                seconds.append(row["wall_time_s"] + row["plan_time_s"])
+            on_result(params, row, prof)
+
     try:
         for _ in range(min(4 * threads, len(queue))):
             submit()
-        for fut in ac:
-            _, batch = pending.pop(fut.key)
-            try:
-                results = fut.result()
-            except Exception as exc:  # noqa: BLE001 -- a dead worker (KilledWorker), a lost task
-                fut.release()
-                if len(batch) > 1:
-                    alone.extend(batch)
-                    for _ in batch:
-                        submit()
-                    continue
-                results = [(_crashed_row(batch[0], exc), None)]
-            fut.release()
-            if queue or alone:
-                submit()
-            for params, (row, prof) in zip(batch, results):
-                if row["status"] == "ok":
-                    seconds.append(row["wall_time_s"] + row["plan_time_s"])
-                on_result(params, row, prof)
+        try:
+            for fut in _completions(client, ac):
+                handle(fut)
+        except NoWorkersError as exc:  # every scene left is a crashed row (not stored: a rerun retries)
+            left = [p for _, b in pending.values() for p in b] + list(alone) + list(queue)
+            alone.clear()
+            queue.clear()
+            for params in left:
+                on_result(params, _crashed_row(params, exc), None)
     finally:
         if pending:
             client.cancel([f for f, _ in pending.values()])
@@ -552,7 +618,8 @@ def sweep(spec=None, *, out=None, engine: str = "local", workers: int | None = N
     scheduler : str, optional
         Address of a running dask scheduler ("tcp://HOST:PORT").
     scheduler_timeout : float
-        Seconds to wait for the scheduler before raising InputError.
+        Seconds to wait for the scheduler (and for a first worker) before raising InputError.
+        Every worker must run this package version.
     client : distributed.Client, optional
         An existing client (left open).
     profiles : bool
@@ -608,9 +675,15 @@ def sweep(spec=None, *, out=None, engine: str = "local", workers: int | None = N
     if todo:  # the engine before anything is written: a missing extra, an unreachable scheduler
         if client is not None:
             name = "client"
+            check_workers(client, "client", scheduler_timeout)
         elif scheduler is not None:
             client = own = connect_scheduler(scheduler, scheduler_timeout)
             name = f"scheduler {scheduler}"
+            try:
+                check_workers(client, f"--scheduler {scheduler}", scheduler_timeout)
+            except BaseException:
+                client.close()
+                raise
         elif engine == "local":
             _need_dask()
             n = workers or _default_workers()
@@ -674,7 +747,8 @@ def map_tasks(func, items, *, engine: str = "auto", workers: int | None = None,
     it is pickled by reference) and deterministic; ``items`` plain data.  ``engine``: "local"
     (a LocalCluster of ``workers`` processes), "serial", or "auto" (local if dask.distributed is
     installed, else serial); ``scheduler`` / ``client`` as in ``sweep``.  An exception in a task
-    is raised here (the remaining tasks are cancelled).  Progress bar on stderr unless
+    is raised here (the remaining tasks are cancelled), as is RuntimeError when the cluster has
+    had no worker for NO_WORKER_SECONDS.  Progress bar on stderr unless
     ``progress`` is false.
     """
     items = list(items)
@@ -710,7 +784,7 @@ def map_tasks(func, items, *, engine: str = "auto", workers: int | None = None,
             fut = client.submit(func, item, key=f"spectral-contact-map-{tag}-{i}", pure=False)
             pending[fut.key] = (fut, i)
             futures.append(fut)
-        for fut in as_completed(futures, loop=client.loop):
+        for fut in _completions(client, as_completed(futures, loop=client.loop)):
             results[pending.pop(fut.key)[1]] = fut.result()
             bar.update(False)
             fut.release()
