@@ -39,8 +39,16 @@ def _same(a, b):
 def serial(tmp_path_factory):
     out = tmp_path_factory.mktemp("serial")
     info = {}
-    df = sweep(SPEC, out=out, engine="serial", progress=False, info=info)
+    df = sweep(SPEC, out=out, engine="serial", progress=False, info=info, profiles=True)
     return df, out, info
+
+
+def _same_profiles(a, b):
+    """The profile files of two runs are the same, byte for byte."""
+    fa = sorted(p.name for p in (a / "profiles").glob("*.csv"))
+    assert fa == sorted(p.name for p in (b / "profiles").glob("*.csv")) and len(fa) == 12
+    for name in fa:
+        assert (a / "profiles" / name).read_bytes() == (b / "profiles" / name).read_bytes(), name
 
 
 # --- specifications -----------------------------------------------------------------------------
@@ -100,9 +108,10 @@ def test_serial_table(serial):
 
 def test_local_cluster_gives_the_same_table(serial, tmp_path):
     info = {}
-    df = sweep(SPEC, out=tmp_path, workers=2, progress=False, info=info)
+    df = sweep(SPEC, out=tmp_path, workers=2, progress=False, info=info, profiles=True)
     assert info["engine"] == "LocalCluster(2 workers)" and info["solved"] == 12
     _same(df, serial[0])
+    _same_profiles(tmp_path, serial[1])
     assert _untimed(pd.read_csv(tmp_path / "summary.csv")).equals(
         _untimed(pd.read_csv(serial[1] / "summary.csv")))
 
@@ -145,9 +154,11 @@ def external_cluster(tmp_path_factory):
 
 def test_external_cluster_gives_the_same_table(serial, external_cluster, tmp_path):
     info = {}
-    df = sweep(SPEC, out=tmp_path, scheduler=external_cluster, progress=False, info=info)
+    df = sweep(SPEC, out=tmp_path, scheduler=external_cluster, progress=False, info=info,
+               profiles=True)
     assert info["engine"] == f"scheduler {external_cluster}" and info["solved"] == 12
     _same(df, serial[0])
+    _same_profiles(tmp_path, serial[1])
 
 
 # --- the store ----------------------------------------------------------------------------------
