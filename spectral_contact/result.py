@@ -12,7 +12,13 @@ import numpy as np
 
 from .physics.scene import Scene
 
-__all__ = ["ContactResult", "JSON_KEYS", "PROFILE_COLUMNS"]
+__all__ = ["ContactResult", "JSON_KEYS", "PROFILE_COLUMNS", "COUNTER_KEYS"]
+
+COUNTER_KEYS = ("transforms", "iterations", "linear_iterations")
+"""Work counters every method fills (``ContactResult.counters``): FFT pairs (forward +
+backward; 0 where none are used), outer iterations (active-set, or root finding on the
+half-width) and inner ones (GMRES matrix-vector products, or Nystrom solves), summed over every
+level of the resolution control."""
 
 JSON_KEYS = (
     "model", "method", "load_N_per_m", "mu", "young_Pa", "radius_m", "thickness_m",
@@ -40,7 +46,9 @@ class ContactResult:
 
     Diagnostics: grid_points, domain_length (in h), iterations, residual (dimensionless,
     relative), error_estimate (relative, of a, x_c, d and the peak pressure), wall_time_s
-    (solve only), plan_time_s (FFT planning), info (free-form dict: method details).
+    (solve only), plan_time_s (FFT planning), info (free-form dict: method details),
+    counters (``COUNTER_KEYS``: transforms, iterations, linear_iterations; the same for every
+    method).
     """
 
     scene: Scene
@@ -63,6 +71,7 @@ class ContactResult:
     wall_time_s: float = 0.0
     plan_time_s: float = 0.0
     info: dict = field(default_factory=dict)
+    counters: dict = field(default_factory=lambda: dict.fromkeys(COUNTER_KEYS, 0))
 
     # --- SI views -----------------------------------------------------------------------------
     @property

@@ -55,6 +55,10 @@ class FourierOperator:
         """The operator applied to a real field of shape ``grid.shape`` (one FFT pair)."""
         return get_rfft(self.grid.shape).apply(field, self.symbol)
 
+    def apply_symbol(self, field: np.ndarray, symbol: np.ndarray) -> np.ndarray:
+        """Another symbol on the same grid (e.g. ``preconditioner(k_c)``) applied to ``field``."""
+        return get_rfft(self.grid.shape).apply(field, symbol)
+
     def preconditioner(self, k_cut: float) -> np.ndarray:
         """Symbol of the approximate inverse: 1/S(k) for |k| >= k_cut, 1/S(k_cut n) below
         (cached per cut-off)."""

@@ -36,7 +36,7 @@ import numpy as np
 
 from .transfer import transfer_functions
 
-__all__ = ["Film", "DECAY_RATE", "surface_compliance", "base_stress_symbols", "base_stresses"]
+__all__ = ["Film", "DECAY_RATE", "surface_compliance", "base_stresses"]
 
 DECAY_RATE = 0.7390851332151607
 """Slowest exponential decay rate (in 1/h) of the film's kernels in x: the pole of 1/D(k) at
@@ -122,13 +122,6 @@ _E_X = (1.0,)
 def surface_compliance(k: np.ndarray, mu: float) -> np.ndarray:
     """H(k) on k >= 0 in 1D (dimensionless: displacement h^2/2R per stress E h/6R per 1/h)."""
     return _FILM.surface_compliance(_E_X, np.asarray(k, dtype=float), mu, _E_X)
-
-
-def base_stress_symbols(k: np.ndarray):
-    """(A, iB, C) on k >= 0 in 1D: sigma_zz^(0) = A szz^(1) + iB sxz^(1),
-    sigma_xz^(0) = C sxz^(1) + iB szz^(1)."""
-    _, _, A, B, C = transfer_functions(np.asarray(k, dtype=float))
-    return A, 1j * B, C
 
 
 def base_stresses(fft, k, sigma_zz_surface, sigma_xz_surface):

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["transfer_functions", "F0", "F1", "A", "B", "C", "F0_minus_1"]
+__all__ = ["transfer_functions", "F0", "F0_minus_1"]
 
 _SERIES_MAX = 1.0  # |2k| below which sinh(2k) - 2k is summed as a series
 
@@ -73,23 +73,6 @@ def transfer_functions(k):
 def F0(k):
     k, e2, Dp = _scaled(k)
     return _F0_scaled_numerator(k, e2) / Dp
-
-
-def F1(k):
-    k, e2, Dp = _scaled(k)
-    return 4.0 * k * k * e2 / Dp
-
-
-def A(k):
-    return transfer_functions(k)[2]
-
-
-def B(k):
-    return transfer_functions(k)[3]
-
-
-def C(k):
-    return transfer_functions(k)[4]
 
 
 def F0_minus_1(k):

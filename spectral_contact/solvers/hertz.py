@@ -6,10 +6,9 @@ import time
 
 import numpy as np
 
-from ..errors import InputError
-from ..numerics.grid import Grid
+from ..numerics.grid import Grid, pow2_at_least
 from ..physics.film import DECAY_RATE
-from ..physics.scene import Scene
+from ..physics.scene import Scene, check_positive
 from ..reference.hertz import (
     _K_NYQUIST_MIN,
     _POINTS_ACROSS,
@@ -20,14 +19,11 @@ from ..reference.hertz import (
 )
 from ..result import ContactResult
 from .auto import model_error_bound
+from .base import check_grid_points
 
 __all__ = ["solve_hertz"]
 
 _MAX_POINTS = 2**22
-
-
-def _pow2_at_least(n: float) -> int:
-    return max(64, 1 << max(0, math.ceil(math.log2(max(n, 1.0)))))
 
 
 def solve_hertz(scene: Scene, tol: float = 1e-4, grid_points: int | None = None,
@@ -43,10 +39,9 @@ def solve_hertz(scene: Scene, tol: float = 1e-4, grid_points: int | None = None,
     ``info["model_error_bound"]`` (the fitted bound of ``solvers.auto``).
     """
     t0 = time.perf_counter()
-    if grid_points is not None and grid_points < 64:
-        raise InputError(f"grid_points must be >= 64; got {grid_points}")
-    if domain_length is not None and not domain_length > 0:
-        raise InputError(f"domain_length must be > 0; got {domain_length}")
+    grid_points = check_grid_points(grid_points, 64, 2**24, "hertz profile grid points")
+    if domain_length is not None:
+        domain_length = check_positive("domain_length", domain_length, "h")
     P, mu = scene.P, scene.mu
     a = hertz_half_width(P)
     margin = math.log(100.0 / tol) / DECAY_RATE
@@ -57,7 +52,7 @@ def solve_hertz(scene: Scene, tol: float = 1e-4, grid_points: int | None = None,
         dx = math.pi / _K_NYQUIST_MIN
         if a > 0:
             dx = min(dx, 2.0 * a / _POINTS_ACROSS)
-        n = min(_pow2_at_least(L / dx), _MAX_POINTS)
+        n = min(pow2_at_least(L / dx, 64), _MAX_POINTS)
     g = Grid.centered(n, L, 0.0)
     p = hertz_pressure(g.x, a)
     if a > 0:
@@ -81,4 +76,5 @@ def solve_hertz(scene: Scene, tol: float = 1e-4, grid_points: int | None = None,
         base_sigma_zz=szz, base_sigma_xz=sxz, half_width=a, center=0.0, indentation=d,
         max_pressure=4.0 * a, max_pressure_x=0.0, grid_points=n, domain_length=L,
         iterations=0, residual=0.0, error_estimate=1e-12 if a > 0 else 0.0,
-        wall_time_s=wall, plan_time_s=0.0, info=info)
+        wall_time_s=wall, plan_time_s=0.0, info=info,
+        counters={"transforms": 1 if a > 0 else 0, "iterations": 0, "linear_iterations": 0})
