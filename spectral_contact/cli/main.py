@@ -12,6 +12,7 @@ import sys
 
 from ..errors import ConvergenceError, InputError, SpectralContactError
 from ..physics.scene import PAPER_SCENE
+from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR
 
 __all__ = ["main", "build_parser"]
 
@@ -126,8 +127,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--profiles", metavar="FILE.csv", help="write the profiles (SI) as CSV")
     p.add_argument("--plot", metavar="FILE.png", help="plot pressure and base stresses")
     p.add_argument("--sensor", action="store_true", help="add the MEMS sensor view (S, U) to profiles and plot")
-    p.add_argument("--a-zz", type=float, default=19.00, help="A_zz [mV/bar] (default 19.00)")
-    p.add_argument("--a-xz", type=float, default=7.95, help="A_xz [mV/bar] (default 7.95)")
+    p.add_argument("--a-zz", type=float, default=A_ZZ_MV_PER_BAR,
+                   help=f"A_zz [mV/bar] (default {A_ZZ_MV_PER_BAR:.2f})")
+    p.add_argument("--a-xz", type=float, default=A_XZ_MV_PER_BAR,
+                   help=f"A_xz [mV/bar] (default {A_XZ_MV_PER_BAR:.2f})")
     p.set_defaults(func=_cmd_solve)
     p = sub.add_parser("study", help="run a study from studies/ (python -m studies.NAME)")
     p.add_argument("name")

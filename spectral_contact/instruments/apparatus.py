@@ -50,14 +50,12 @@ from scipy.special import j1
 from ..errors import InputError
 from ..numerics.grid import Grid
 from ..physics.scene import check_positive
+from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR, PA_PER_BAR  # noqa: F401 (re-exported)
 
 __all__ = ["ApparatusFunction", "GaussianFoot", "TabulatedApparatus", "load_apparatus_csv",
            "G_ZZ", "G_XZ", "A_ZZ_MV_PER_BAR", "A_XZ_MV_PER_BAR", "PA_PER_BAR",
            "default_apparatus", "check_gain"]
 
-A_ZZ_MV_PER_BAR = 19.00
-A_XZ_MV_PER_BAR = 7.95
-PA_PER_BAR = 1e5
 
 
 def check_gain(name: str, value) -> float:

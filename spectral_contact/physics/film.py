@@ -30,6 +30,7 @@ At k = 0: sigma_zz^(0) = sigma_zz^(h), tau^(0) = tau^(h) (the base carries the l
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -70,6 +71,11 @@ class Film:
     def decay_rate(self) -> float:
         """Slowest decay rate of the film's kernels in real space [1/length]."""
         return DECAY_RATE / self.thickness
+
+    def domain_margin(self, tol: float) -> float:
+        """Length [same unit as h] beyond the contact over which the kernels decay to
+        ~tol/100 (times an amplitude of order 1): the guard a periodic grid needs."""
+        return math.log(100.0 / tol) / self.decay_rate
 
     def surface_compliance(self, direction, kmag, mu: float = 0.0, slide=(1.0, 0.0)):
         """H(k) = [F0 + i mu (e . n) F1] / (2|k|) (0 at k = 0), e = ``slide`` (unit vector,

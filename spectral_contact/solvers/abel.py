@@ -391,14 +391,7 @@ def solve_abel(scene: Scene, model: str = "exact", tol: float = 1e-4, n_nodes: i
     if model not in MODELS:
         raise InputError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
     tol = check_tol(tol)
-    if n_nodes is not None:
-        try:
-            n_int = int(n_nodes)
-        except (TypeError, ValueError):
-            raise InputError(f"n_nodes must be an integer in [6, 2000]; got {n_nodes!r}") from None
-        if n_int != n_nodes or not 6 <= n_int <= 2000:
-            raise InputError(f"n_nodes must be an integer in [6, 2000]; got {n_nodes!r}")
-        n_nodes = n_int
+    n_nodes = check_grid_points(n_nodes, 6, 2000, "Abel Nystrom nodes")
     if x is not None:
         x = np.asarray(x, dtype=float)
         if x.ndim != 1 or x.size == 0 or not np.all(np.isfinite(x)):

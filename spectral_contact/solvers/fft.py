@@ -28,9 +28,9 @@ from ..numerics.contact import solve_contact
 from ..numerics.edges import fit_edges, peak
 from ..numerics.fft import get_rfft, plan_cache_info
 from ..numerics.grid import Grid, pow2_at_least
-from ..physics.film import DECAY_RATE, Film
+from ..physics.film import Film
 from ..physics.indenters import Cylinder
-from ..physics.scene import Scene
+from ..physics.scene import Scene, check_positive
 from ..result import ContactResult
 from .base import Method, check_grid_points, register
 
@@ -104,11 +104,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     plans0 = _plans_time()
     P = scene.P
     mu_contact = scene.mu if model == "exact" else 0.0
-    if grid_points is not None and grid_points < MIN_POINTS:
-        raise InputError(f"grid_points must be >= {MIN_POINTS}; got {grid_points}")
-    if domain_length is not None and not domain_length > 0:
-        raise InputError(f"domain_length must be > 0; got {domain_length}")
-    margin = math.log(100.0 / tol) / DECAY_RATE  # images ~ tol/100 x O(1)
+    margin = Film().domain_margin(tol)  # images ~ tol/100 x O(1)
     # residual (relative displacement / pressure / load) accepted from each contact solve:
     # far below tol, but not below what round-off allows for very wide contacts
     accept = max(1e-8, 1e-2 * tol)
@@ -239,8 +235,8 @@ class FFTMethod(Method):
     def __init__(self, tol: float = 1e-4, grid_points=None, domain_length=None):
         super().__init__(tol)
         self.grid_points = check_grid_points(grid_points, MIN_POINTS, 2**24, "fft grid points", even=True)
-        if domain_length is not None and not (math.isfinite(domain_length) and domain_length > 0):
-            raise InputError(f"domain_length must be > 0; got {domain_length}")
+        if domain_length is not None:
+            domain_length = check_positive("domain_length", domain_length, "h")
         self.domain_length = domain_length
 
     def solve(self, scene: Scene, model: str) -> ContactResult:

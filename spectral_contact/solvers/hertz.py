@@ -7,7 +7,7 @@ import time
 import numpy as np
 
 from ..numerics.grid import Grid, pow2_at_least
-from ..physics.film import DECAY_RATE
+from ..physics.film import DECAY_RATE, Film
 from ..physics.scene import Scene, check_positive
 from ..reference.hertz import (
     _K_NYQUIST_MIN,
@@ -44,7 +44,7 @@ def solve_hertz(scene: Scene, tol: float = 1e-4, grid_points: int | None = None,
         domain_length = check_positive("domain_length", domain_length, "h")
     P, mu = scene.P, scene.mu
     a = hertz_half_width(P)
-    margin = math.log(100.0 / tol) / DECAY_RATE
+    margin = Film().domain_margin(tol)
     L = domain_length or (2.0 * a + margin)
     if grid_points:
         n = int(grid_points)
