@@ -131,3 +131,18 @@ def test_wisdom_round_trip_is_fftw_text(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert fftmod.load_wisdom(path) is True
+
+
+def test_two_dimensional_mirror_symmetry_is_exact():
+    """mu -> -mu is x -> -x on a 2D grid (the Nyquist plane averaged over its aliases)."""
+    g = Grid.centered((64, 16), (12.0, 6.0))
+    film = Film()
+    x, y = g.coordinates()
+    p = np.exp(-((x - 0.7) ** 2) - 2 * y**2) + 0 * y
+    pm = p[(-np.arange(64)) % 64, :]  # p(-x): node j <-> node -j (centred grid)
+    op_p = FourierOperator(g, film.compliance_symbol(2.0))
+    op_m = FourierOperator(g, film.compliance_symbol(-2.0))
+    w_p = op_p.apply(p)
+    w_m = op_m.apply(pm)
+    np.testing.assert_allclose(w_m, w_p[(-np.arange(64)) % 64, :], atol=1e-14)
+    assert np.all(np.isreal(op_p.symbol[g.nyquist_mask]))

@@ -40,7 +40,7 @@ class FourierOperator:
         self._preconditioners: dict[float, np.ndarray] = {}
 
     def _evaluate(self, kmag: np.ndarray) -> np.ndarray:
-        s = np.asarray(self.symbol_function(self.grid.direction, kmag))
+        s = np.asarray(self.grid.alias_average(lambda n: self.symbol_function(n, kmag)))
         return s + self.constant if self.constant else s
 
     @property

@@ -112,11 +112,14 @@ class Film:
 
     def base_stresses(self, fft, grid, szz_surface, tau_surface):
         """Base tractions on ``grid`` (real fields) from surface tractions (real fields on the
-        same grid): sigma_zz(x, h) and the tuple of shear components at z = h.  ``fft`` is the
+        same grid): sigma_zz(x, h) and the tuple of shear components at z = h (terms odd in k
+        averaged over the two aliases of Nyquist planes: ``Grid.alias_average``).  ``fft`` is the
         grid's planned transform (numerics.fft.get_rfft(grid.shape)).
         Returns (sigma_zz(x, 0), tuple of base shear fields)."""
-        szz0, tau0 = self.base_transfer(grid.direction, grid.kmag, fft.forward(szz_surface),
-                                        tuple(fft.forward(t) for t in tau_surface))
+        szz_hat = fft.forward(szz_surface)
+        tau_hat = tuple(fft.forward(t) for t in tau_surface)
+        szz0, tau0 = grid.alias_average(
+            lambda n: self.base_transfer(n, grid.kmag, szz_hat, tau_hat))
         return fft.backward(szz0), tuple(fft.backward(t) for t in tau0)
 
 
