@@ -69,8 +69,8 @@ def plot_maps(result, path, sensor: dict | None = None, window: float = 3.0):
               ("base_sigma_yz_Pa", "base sigma_yz(x, y, 0)")]
     fields = {k: maps[k] for k, _ in panels}
     if sensor:
-        panels += [("S_zz_Pa", "MEMS S_zz (+ compression)"), ("S_xz_Pa", "MEMS S_xz"),
-                   ("S_yz_Pa", "MEMS S_yz")]
+        panels += [("S_zz_Pa", "MEMS S_zz [kPa] (+ compression)"), ("S_xz_Pa", "MEMS S_xz [kPa]"),
+                   ("S_yz_Pa", "MEMS S_yz [kPa]")]
         fields.update({k: sensor[k] for k in ("S_zz_Pa", "S_xz_Pa", "S_yz_Pa")})
     ncol = 4 if not sensor else 4
     nrow = int(np.ceil(len(panels) / ncol))
