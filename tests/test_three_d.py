@@ -190,3 +190,16 @@ def test_cli_bad_3d_input_exits_2(argv, capsys, tmp_path, monkeypatch):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1
     assert list(tmp_path.iterdir()) == []
+
+
+def test_surface_displacements_close_the_gap_and_shear_the_layer(sliding):
+    """Inside the contact the surface follows the indenter: u_z = f - d; the mean tangential
+    displacement is the uniform shear of the bonded layer, h * mean(q) (h = 1 here)."""
+    r = sliding
+    g = Grid(r.pressure.shape, r.domain_length, (r.x[0], r.y[0]))
+    f = Sphere(0.0, r.scene.P).height(g)
+    inside = r.pressure > 0
+    np.testing.assert_allclose(r.surface_uz[inside], (f - r.indentation)[inside],
+                               atol=1e-7 * r.indentation)
+    assert r.surface_ux.mean() == pytest.approx(r.scene.mu * r.pressure.mean(), rel=1e-10)
+    assert abs(r.surface_uy.mean()) < 1e-12
