@@ -17,7 +17,7 @@ from spectral_contact.numerics.abel_kernels import gauss_legendre, k_rule
 from spectral_contact.numerics.fft import get_rfft
 from spectral_contact.numerics.grid import Grid
 from spectral_contact.physics.film import Film
-from spectral_contact.physics.transfer import F0_minus_1
+from spectral_contact.physics.transfer import F0_minus_1, transfer_functions
 from spectral_contact.reference import axisym_layer as ax
 from spectral_contact.reference.axisym_layer import (
     KAPPA0,
@@ -70,6 +70,23 @@ def test_hertz_limit_small_contact():
     # deviations are O(a^3): doubling a multiplies them by 8
     ratio = dev[0.02] / dev[0.01]
     assert np.all((ratio > 7.0) & (ratio < 9.0)), ratio
+
+
+def test_base_stress_point_load_limit():
+    """a -> 0: sigma_zz(0, 0) = -(P/2pi) [Int A k dk - (a^2/10) Int A k^3 dk] + O(a^4)
+    (second moment of the Hertz pressure <r^2> = 2a^2/5), the moments by scipy's quad."""
+    def A(k):
+        return float(transfer_functions(np.array([k]))[2][0])
+
+    m1 = quad(lambda k: A(k) * k, 0.0, np.inf, epsabs=1e-14, epsrel=1e-13)[0]
+    m3 = quad(lambda k: A(k) * k**3, 0.0, np.inf, epsabs=1e-14, epsrel=1e-13)[0]
+    dev = {}
+    for a in (0.02, 0.05):
+        c = sphere_with_radius(a)
+        pred = -(c.load / (2.0 * math.pi)) * (m1 - a * a / 10.0 * m3)
+        dev[a] = float(c.base_sigma_zz(np.array([0.0]))[0]) / pred - 1.0
+    assert abs(dev[0.05]) < 1.5e-5
+    assert 30.0 < dev[0.05] / dev[0.02] < 50.0   # O(a^4): 2.5^4 = 39
 
 
 def test_hertz_constants_in_si():
@@ -192,6 +209,9 @@ def test_grid_sinking_matches_contact_condition():
             order = np.argsort(r[ring])
             assert np.all(np.diff(gap_split[ring][order]) > -1e-5)   # opens outward
             assert gap_split[ring][order][-1] > 0.5                  # and is not zero
+            # the reference's own sinking outside the contact agrees with the grid's
+            sel = np.flatnonzero(ring)[::7]
+            assert np.max(np.abs(c.surface_sinking(r[sel]) - w_split[sel])) < 2e-5 * c.indentation
     assert res[512] < 1.5e-5, res
     assert res[256] / res[512] > 2.5, res   # converges with the grid (~dx^2.5)
 
@@ -245,6 +265,18 @@ def test_thin_film_limit_approached(contacts):
     s = c.base_sigma_zz(r)
     assert np.all(np.abs(s / -c.pressure(r) - 1.0) > 0.05)     # not local yet ...
     assert np.allclose(s, -(c.pressure(r) + 0.5 * lap + 0.875 * 12.0), rtol=5e-3)
+
+
+@pytest.mark.parametrize("a", [0.05, 1.0, 3.0, 5.0])
+def test_forward_sinking_undoes_the_abel_inversion(contacts, a):
+    """w(r) from the forward (half-space Abel + layer Hankel) formula is d - r^2 in the contact
+    to round-off, and the gap opens monotonically outside."""
+    c = contacts[a] if a in contacts else sphere_with_radius(a)
+    r = np.linspace(0.0, a, 13)
+    assert np.max(np.abs(c.surface_sinking(r) - (c.indentation - r**2))) < 1e-11 * c.indentation
+    ro = c.a + np.linspace(0.0, 3.0, 13)
+    gap = c.surface_sinking(ro) - c.indentation + ro**2
+    assert abs(gap[0]) < 1e-11 * c.indentation and np.all(np.diff(gap) > 0.0)
 
 
 def test_pressure_interpolant_is_exact(contacts):

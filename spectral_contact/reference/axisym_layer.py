@@ -62,10 +62,27 @@ Hertz limit (F0 = 1, K = 0): g = (4/pi)(d - 2t^2), g(a) = 0 gives d = 2 a^2, g =
 P = 32 a^3/3, p(r) = (16 a/pi) sqrt(1 - r^2/a^2) -- the incompressible half-space (E* = 4E/3:
 a^3 = 3FR/(4E*), p0 = 3F/(2 pi a^2), delta = a^2/R, in these units).  As a -> 0 the layer
 enters first through the constant K(0, 0) = (2/pi) kappa0, kappa0 = Int_0^inf (F0 - 1) dk
-= -1.7702...: it shifts g by a constant, so a(P) and p are Hertz's up to O(a^3) relative, but
-the indentation is d = 2 a^2 + kappa0 P/(4 pi) + O(a^5) (the rigid base stops the far field:
-a relative correction O(a), tested).  Thin-film limit (a >> h, F0 ~ 2k^3/3, w = -(1/3) lap p):
-p = (3/16)(a^2 - r^2)^2, d = a^2/2, P = pi a^6/16 (approached slowly, O(h/a)).
+= -1.7702...: it shifts g by a constant, so a(P) and p are Hertz's up to O(a^3) relative
+(measured: 8.1e-7 at a = 0.01 h, 1.0e-4 at 0.05 h), but the indentation is
+d = 2 a^2 + kappa0 P/(4 pi) + O(a^5): the rigid base stops the far field, a relative correction
+4 kappa0 a/(3 pi) = -0.75 a/h (-3.8 % at a = 0.05 h!) which a comparison with Hertz's d must
+include.  The base stress under a small contact is the point load's,
+sigma_zz(0, 0) = -(P/2pi)[Int A k dk - (a^2/10) Int A k^3 dk] + O(a^4).
+Thin-film limit (a >> h, F0 ~ 2k^3/3, w = -(1/3) lap p): p = (3/16)(a^2 - r^2)^2, d = a^2/2,
+P = pi a^6/16, approached slowly: the contact radius trails (16P/pi)^(1/6) by a nearly constant
+~1.4 h (1.31 h at a = 3, 1.38 at 5, 1.45 at 20); at a = 5 d and p_max still exceed the thin-film
+values by 44 % and x3.1 (p_max at 20 h: +34 %).  There the base stress follows the gradient
+expansion of A(k) = 1 - k^2/2 + 7k^4/8: sigma_zz(r, 0) ~ -(p + lap p/2 + 7 lap^2 p/8) (tested).
+
+Reference values (tol 1e-12; lengths in h, d in h^2/2R, stresses in G h/2R):
+
+     a/h            P                  d                p_max          -sigma_zz(0, 0)
+    0.05  1.333468350112e-03  4.812763180394e-03  2.546737161591e-01  9.972181529936e-04
+     0.1  1.067522007011e-02  1.851549152318e-02  5.097055322441e-01  7.912331463843e-03
+     0.3  2.936808819070e-01  1.430040138597e-01  1.558867054956e+00  1.985960316310e-01
+       1  1.504533519337e+01  1.118830971126e+00  7.613388412093e+00  4.896170509943e+00
+       3  1.255650657153e+03  7.334612287769e+00  8.775271703912e+01  7.645178081482e+01
+       5  1.326173733370e+04  1.795623452859e+01  3.649436922266e+02  3.377093403018e+02
 
 Numerics
 --------
@@ -97,7 +114,10 @@ agree with a level of twice the nodes to 6e-16 (a = 0.01 ... 1), 3e-14 (3, 5), 4
 (measured on a loaded machine: indicative only).
 
 Independent checks (tests/test_axisym_layer.py): Hertz and the kappa0 correction as a -> 0
-(deviations scale as a^3); Int p dA = P; Int sigma_zz(r, 0) dA = -P; the pressure put on a 2D
+(deviations scale as a^3), the point-load base stress (a^4); Int p dA = P (adaptive quad);
+Int sigma_zz(r, 0) dA = -P; the forward sinking formula (``surface_sinking``: half-space Abel
+integral + layer Hankel integral, no inversion) returns d - r^2 in the contact to 1e-13 and an
+opening gap outside; the pressure put on a 2D
 periodic grid and pushed through physics.film.Film's 2D compliance and base transfer gives
 w = d - r^2 in the contact (to the grid's accuracy, converging as dx^2.5 once the sqrt edge is
 handled in closed form: 7e-6 d at 512^2 for a = 1), a gap >= 0 outside, and the same base
@@ -244,8 +264,9 @@ class AxisymContact:
     condition_number : 2-norm condition number of the Nystrom matrix (~0.2 (a/h)^2.2);
     t, g : Gauss nodes on [0, a] and the auxiliary function g(t) (eq. 1).
 
-    Methods: ``pressure(r)``, ``base_sigma_zz(r)``, ``pressure_hankel(k)`` (P~(k); the 2D
-    transform is 2 pi P~(|k|)), all vectorised over arrays of r >= 0 (or k >= 0).
+    Methods: ``pressure(r)``, ``base_sigma_zz(r)``, ``surface_sinking(r)`` (w = -u_z, any r;
+    the gap outside is w - d + r^2), ``pressure_hankel(k)`` (P~(k); the 2D transform is
+    2 pi P~(|k|)), all vectorised over arrays of r >= 0 (or k >= 0).
     """
 
     load: float
@@ -313,6 +334,25 @@ class AxisymContact:
         tf, wf = gauss_legendre(m, 0.0, self.a)
         gw = wf * self._level.g_at(tf)
         return np.cos(np.multiply.outer(k, tf)) @ gw
+
+    def surface_sinking(self, r) -> np.ndarray:
+        """w(r) = -u_z(r, h), the surface's sinking (in h^2/2R), at any r >= 0:
+
+            w(r) = (1/2) Int_0^min(r, a) g(t)/sqrt(r^2 - t^2) dt + (1/2) Int (F0 - 1) P~ J0(kr) dk
+                 = (1/2) Int_0^arcsin(min(1, a/r)) g(r sin th) dth + ...
+
+        (the half-space part from Int cos(kt) J0(kr) dk = 1/sqrt(r^2 - t^2), t < r).  Inside the
+        contact it must return d - r^2 (the Abel inversion undone numerically: tested); outside,
+        the gap is w - d + r^2 >= 0."""
+        r = np.abs(np.asarray(r, float))
+        lev = self._level
+        th, wth = gauss_legendre(self.nodes + 24, 0.0, 1.0)
+        top = np.arcsin(np.minimum(1.0, self.a / np.maximum(r, 1e-300)))
+        t = r[..., None] * np.sin(top[..., None] * th)
+        hs = 0.5 * top * (lev.g_at(t) @ wth)
+        k, wk = k_rule(KMAX_M, (float(np.max(r)) if r.size else 0.0) + self.a)
+        layer = 0.5 * (j0(np.multiply.outer(r, k)) @ (wk * F0_minus_1(k) * self.pressure_hankel(k)))
+        return hs + layer
 
     def base_sigma_zz(self, r) -> np.ndarray:
         """sigma_zz(r, 0) at the rigid base (in G h/2R; < 0 in compression):
