@@ -101,6 +101,13 @@ def test_hertz_constants_in_si():
     assert H["indentation"] * u["displacement"] == pytest.approx(a_si**2 / R, rel=1e-13)
     assert H["max_pressure"] * u["stress"] == pytest.approx(3 * F / (2 * math.pi * a_si**2),
                                                             rel=1e-13)
+    # a tiny contact (a = 0.01 h) reported in SI is Hertz's: F = 4 E* a^3/(3R), p0 = 2 E* a/(pi R)
+    c = sphere_on_layer(hertz_load(0.01))
+    si = c.to_si(E, R, h)
+    a_si = 0.01 * h
+    assert si["contact_radius_m"] == pytest.approx(a_si, rel=2e-6)
+    assert si["force_N"] == pytest.approx(4 * (4 * E / 3) * a_si**3 / (3 * R), rel=1e-12)
+    assert si["max_pressure_Pa"] == pytest.approx(2 * (4 * E / 3) * a_si / (math.pi * R), rel=2e-6)
 
 
 # --- equilibrium ---------------------------------------------------------------------------

@@ -288,6 +288,17 @@ class AxisymContact:
                    nodes=lev.n, iterations=iterations, error_estimate=error_estimate,
                    condition_number=lev.cond, t=lev.t.copy(), g=lev.g.copy(), _level=lev)
 
+    def to_si(self, young: float, radius: float, thickness: float) -> dict:
+        """The scalars in SI for a film of Young modulus ``young`` [Pa], thickness ``thickness``
+        [m] under a sphere of radius ``radius`` [m] (keys as in the 3D solver's JSON)."""
+        u = unit_scales(young, radius, thickness)
+        return {"force_N": self.load * u["force"], "contact_radius_m": self.a * u["length"],
+                "indentation_m": self.indentation * u["displacement"],
+                "max_pressure_Pa": self.max_pressure * u["stress"],
+                "base_sigma_zz_center_Pa": float(self.base_sigma_zz(np.array([0.0]))[0])
+                * u["stress"],
+                "error_estimate": self.error_estimate}
+
     # --- pressure ---------------------------------------------------------------------------
     def _q(self, x, exact: bool = False):
         """Q(x) = p / sqrt(a^2 - r^2) at x = r^2, by Gauss quadrature in v of G (the Chebyshev
@@ -356,7 +367,8 @@ class AxisymContact:
 
     def base_sigma_zz(self, r) -> np.ndarray:
         """sigma_zz(r, 0) at the rigid base (in G h/2R; < 0 in compression):
-        -Int_0^inf A(k) P~(k) J0(kr) k dk."""
+        -Int_0^inf A(k) P~(k) J0(kr) k dk.  Direct quadrature at each r: about
+        70 (max r + a) Bessel evaluations per point, so sample a line, not a whole 2D grid."""
         r = np.abs(np.asarray(r, float))
         k, wk = k_rule(KMAX_Z, (float(np.max(r)) if r.size else 0.0) + self.a)
         _, _, A, _, _ = transfer_functions(k)
