@@ -72,6 +72,18 @@ def test_hertz_limit_small_contact():
     assert np.all((ratio > 7.0) & (ratio < 9.0)), ratio
 
 
+def test_load_a3_coefficient():
+    """Next order as a -> 0: K(t, s) = (2/pi)[kappa0 - kappa2 (t^2 + s^2)/2 + ...] with
+    kappa2 = Int (F0 - 1) k^2 dk changes the t^2 coefficient of g, so that at fixed a
+    P/P_Hertz - 1 = -(2 kappa2/(3 pi)) a^3 + O(a^5) (kappa2 by scipy's quad: 0.81298 a^3)."""
+    kappa2 = quad(lambda k: float(F0_minus_1(np.array([k]))[0]) * k * k, 0.0, np.inf,
+                  epsabs=1e-14, epsrel=1e-13)[0]
+    coef = -2.0 * kappa2 / (3.0 * math.pi)
+    for a in (0.01, 0.02):
+        c = sphere_with_radius(a)
+        assert (c.load / hertz_load(a) - 1.0) / a**3 == pytest.approx(coef, rel=2e-3)
+
+
 def test_base_stress_point_load_limit():
     """a -> 0: sigma_zz(0, 0) = -(P/2pi) [Int A k dk - (a^2/10) Int A k^3 dk] + O(a^4)
     (second moment of the Hertz pressure <r^2> = 2a^2/5), the moments by scipy's quad."""

@@ -63,7 +63,8 @@ P = 32 a^3/3, p(r) = (16 a/pi) sqrt(1 - r^2/a^2) -- the incompressible half-spac
 a^3 = 3FR/(4E*), p0 = 3F/(2 pi a^2), delta = a^2/R, in these units).  As a -> 0 the layer
 enters first through the constant K(0, 0) = (2/pi) kappa0, kappa0 = Int_0^inf (F0 - 1) dk
 = -1.7702...: it shifts g by a constant, so a(P) and p are Hertz's up to O(a^3) relative
-(measured: 8.1e-7 at a = 0.01 h, 1.0e-4 at 0.05 h), but the indentation is
+(at fixed a, P/P_Hertz - 1 = -(2 kappa2/(3 pi)) a^3 = 0.81298 a^3, kappa2 = Int (F0 - 1) k^2 dk
+= -3.8311: 8.1e-7 at a = 0.01 h, 1.0e-4 at 0.05 h; a at fixed P: a third of that), but the indentation is
 d = 2 a^2 + kappa0 P/(4 pi) + O(a^5): the rigid base stops the far field, a relative correction
 4 kappa0 a/(3 pi) = -0.75 a/h (-3.8 % at a = 0.05 h!) which a comparison with Hertz's d must
 include.  The base stress under a small contact is the point load's,
