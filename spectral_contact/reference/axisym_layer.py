@@ -64,10 +64,10 @@ a^3 = 3FR/(4E*), p0 = 3F/(2 pi a^2), delta = a^2/R, in these units).  As a -> 0 
 enters first through the constant K(0, 0) = (2/pi) kappa0, kappa0 = Int_0^inf (F0 - 1) dk
 = -1.7702...: it shifts g by a constant, so a(P) and p are Hertz's up to O(a^3) relative
 (at fixed a, P/P_Hertz - 1 = -(2 kappa2/(3 pi)) a^3 = 0.81298 a^3, kappa2 = Int (F0 - 1) k^2 dk
-= -3.8311: 8.1e-7 at a = 0.01 h, 1.0e-4 at 0.05 h; a at fixed P: a third of that), but the indentation is
-d = 2 a^2 + kappa0 P/(4 pi) + O(a^5): the rigid base stops the far field, a relative correction
-4 kappa0 a/(3 pi) = -0.75 a/h (-3.8 % at a = 0.05 h!) which a comparison with Hertz's d must
-include.  The base stress under a small contact is the point load's,
+= -3.8311: 8.1e-7 at a = 0.01 h, 1.0e-4 at 0.05 h; at fixed P, a/a_Hertz - 1 is -1/3 of
+that), but the indentation is d = 2 a^2 + kappa0 P/(4 pi) + O(a^5): the rigid base stops the
+far field, a relative correction 4 kappa0 a/(3 pi) = -0.75 a/h (-3.8 % at a = 0.05 h!) which
+a comparison with Hertz's d must include.  The base stress under a small contact is the point load's,
 sigma_zz(0, 0) = -(P/2pi)[Int A k dk - (a^2/10) Int A k^3 dk] + O(a^4).
 Thin-film limit (a >> h, F0 ~ 2k^3/3, w = -(1/3) lap p): p = (3/16)(a^2 - r^2)^2, d = a^2/2,
 P = pi a^6/16, approached slowly: the contact radius trails (16P/pi)^(1/6) by a nearly constant
@@ -122,7 +122,8 @@ opening gap outside; the pressure put on a 2D
 periodic grid and pushed through physics.film.Film's 2D compliance and base transfer gives
 w = d - r^2 in the contact (to the grid's accuracy, converging as dx^2.5 once the sqrt edge is
 handled in closed form: 7e-6 d at 512^2 for a = 1), a gap >= 0 outside, and the same base
-stress; the thin-film limit is approached as a/h grows.
+stress (to 7e-7 of its peak at 512^2, edge split; 6e-5 brute force); the thin-film limit is
+approached as a/h grows.
 """
 from __future__ import annotations
 
@@ -254,7 +255,7 @@ def _n_start(a: float) -> int:
 
 
 # -------------------------------------------------------------------------------------------------
-@dataclass
+@dataclass(eq=False)
 class AxisymContact:
     """A frictionless sphere on the film (dimensionless; see the module docstring for units).
 
