@@ -313,6 +313,10 @@ def test_forward_sinking_undoes_the_abel_inversion(contacts, a):
 
 def test_pressure_interpolant_is_exact(contacts):
     c = contacts[3.0]
+    # base stress on many points (a 2D grid): the piecewise interpolant is the direct sum
+    r = np.random.default_rng(2).uniform(0.0, 9.0, 600)
+    s_fast, s_direct = c.base_sigma_zz(r), c._base_sigma_zz_direct(r)
+    assert np.max(np.abs(s_fast - s_direct)) < 1e-12 * np.max(np.abs(s_direct))
     r = np.random.default_rng(1).uniform(0.0, c.a, 25)
     assert np.max(np.abs(c.pressure(r) - c.pressure_exact(r))) < 1e-11 * c.max_pressure
     assert c.pressure_hankel(np.array([0.0]))[0] == pytest.approx(c.load / (2 * math.pi),
