@@ -203,3 +203,27 @@ def test_surface_displacements_close_the_gap_and_shear_the_layer(sliding):
                                atol=1e-7 * r.indentation)
     assert r.surface_ux.mean() == pytest.approx(r.scene.mu * r.pressure.mean(), rel=1e-10)
     assert abs(r.surface_uy.mean()) < 1e-12
+
+
+@pytest.mark.parametrize("a_over_h", [0.3, 1.0, 3.0])
+def test_frictionless_sphere_against_the_axisymmetric_reference(a_over_h):
+    """The independent check in 3D (as Abel in 2D): the Fredholm formulation of the sphere on
+    the layer (reference.axisym_layer, ~1e-12) against the FFT solver at tol 1e-2: contact
+    radius, indentation, peak pressure and the base sigma_zz(r) within tol, and each error
+    below the solver's own estimate."""
+    from spectral_contact.reference.axisym_layer import sphere_on_layer
+
+    tol = 1e-2
+    P = 32.0 * a_over_h**3 / 3.0  # Hertz radius a_over_h
+    ref = sphere_on_layer(P)
+    base = Scene3D(mu=0.0)
+    F = P * base.stress_unit * base.length_unit**2
+    r = solve_fft3d(base.with_(force=F), tol=tol)
+    errors = [abs(r.contact_radius / ref.a - 1), abs(r.indentation / ref.indentation - 1),
+              abs(r.measures["pmax"] / ref.max_pressure - 1)]
+    assert max(errors) <= tol
+    assert max(errors) <= r.error_estimate
+    j = int(np.argmin(np.abs(r.y)))
+    sel = np.abs(r.x) < ref.a + 4.0
+    bz = ref.base_sigma_zz(np.abs(r.x[sel]))
+    assert np.max(np.abs(r.base_sigma_zz[sel, j] - bz)) <= tol * np.max(np.abs(bz))

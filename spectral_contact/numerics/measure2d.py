@@ -1,8 +1,11 @@
 """Measuring a contact on a 2D surface grid (the dimension-specific part of the 3D solver).
 
 Edges are located to a small fraction of a cell along every grid line by the 1D edge fit
-(``edges.fit_edges``: the gap opens as distance^{3/2}); the area is the mean of the row-wise
-and column-wise integrals of the fitted chord lengths; the extents are the envelopes of the
+(``edges.fit_edges``: the gap opens as distance^{3/2}); the area is that of the polygon through
+the fitted edge points, each taken from the line (row or column) that crosses the boundary more
+steeply (the lines that graze it are poorly fitted): against the axisymmetric reference its
+radius error falls steadily, ~dx^2, from 1e-2 to 3e-5 (tests/test_three_d.py); where a line
+holds several runs, the mean of the row-wise and column-wise integrals of the chords; the extents are the envelopes of the
 fitted edges, refined across lines by a parabola through the extreme line and its neighbours.
 Lengths in the grid's unit; arrays indexed [x, y].
 """
@@ -39,6 +42,31 @@ def _chords(coord, d, gap, p, active):
     return length, lo, hi
 
 
+def _boundary_area(x, y, left, right, bottom, top):
+    """Area of the polygon through the fitted edge points, each taken from the grid line that
+    crosses the boundary more steeply (rows where the boundary runs within 45 degrees of y,
+    columns elsewhere): grazing lines, whose 1D fits are poor, are left out.  Needs one run per
+    line and a contact star-shaped about its centre; returns None otherwise."""
+    pts = []
+    for coord, lo, hi, along_x in ((y, left, right, True), (x, bottom, top, False)):
+        ok = np.flatnonzero(np.isfinite(lo))
+        if ok.size < 3:
+            return None
+        c = coord[ok]
+        for e in (lo[ok], hi[ok]):
+            slope = np.abs(np.gradient(e, c))  # d(edge)/d(line coordinate)
+            keep = slope <= 1.0
+            keep[[0, -1]] = False  # the end lines graze the boundary
+            pts.extend(zip(e[keep], c[keep]) if along_x else zip(c[keep], e[keep]))
+    if len(pts) < 8:
+        return None
+    pts = np.array(pts)
+    xc, yc = pts.mean(axis=0)
+    order = np.argsort(np.arctan2(pts[:, 1] - yc, pts[:, 0] - xc))
+    px, py = pts[order, 0], pts[order, 1]
+    return 0.5 * abs(np.dot(px, np.roll(py, -1)) - np.dot(py, np.roll(px, -1)))
+
+
 def _extreme(values, coord, d, largest):
     """The extreme of per-line values, refined by a parabola through the extreme line and its
     two neighbours (when they have contact)."""
@@ -71,13 +99,18 @@ def measure_contact_2d(grid, pressure, gap, active) -> dict:
     len_x, left, right = _chords(x, dx, gap, pressure, active)
     len_y, bottom, top = _chords(y, dy, gap.T, pressure.T, active.T)
     area = 0.5 * (len_x.sum() * dy + len_y.sum() * dx)
+    single = np.allclose(len_x[np.isfinite(left)], (right - left)[np.isfinite(left)]) and \
+        np.allclose(len_y[np.isfinite(bottom)], (top - bottom)[np.isfinite(bottom)])
+    polygon = _boundary_area(x, y, left, right, bottom, top) if single else None
     i, j = np.unravel_index(int(np.argmax(pressure)), pressure.shape)
     px, xm = peak(x, pressure[:, j])
     py, ym = peak(y, pressure[i, :])
     load = float(pressure.sum() * dx * dy)
     j0 = int(np.argmin(np.abs(y)))
     return {
-        "area": float(area),
+        "area": float(area if polygon is None else polygon),
+        "area_rows": float(len_x.sum() * dy),
+        "area_columns": float(len_y.sum() * dx),
         "x_min": _extreme(left, y, dy, largest=False),
         "x_max": _extreme(right, y, dy, largest=True),
         "y_min": _extreme(bottom, x, dx, largest=False),
