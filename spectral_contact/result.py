@@ -12,7 +12,14 @@ import numpy as np
 
 from .physics.scene import Scene
 
-__all__ = ["ContactResult", "JSON_KEYS", "PROFILE_COLUMNS"]
+__all__ = ["ContactResult", "ContactResult3D", "JSON_KEYS", "JSON_KEYS_3D", "MAP_KEYS",
+           "PROFILE_COLUMNS", "COUNTER_KEYS"]
+
+COUNTER_KEYS = ("transforms", "iterations", "linear_iterations")
+"""Work counters every method fills (``ContactResult.counters``): FFT pairs (forward +
+backward; 0 where none are used), outer iterations (active-set, or root finding on the
+half-width) and inner ones (GMRES matrix-vector products, or Nystrom solves), summed over every
+level of the resolution control."""
 
 JSON_KEYS = (
     "model", "method", "load_N_per_m", "mu", "young_Pa", "radius_m", "thickness_m",
@@ -40,7 +47,9 @@ class ContactResult:
 
     Diagnostics: grid_points, domain_length (in h), iterations, residual (dimensionless,
     relative), error_estimate (relative, of a, x_c, d and the peak pressure), wall_time_s
-    (solve only), plan_time_s (FFT planning), info (free-form dict: method details).
+    (solve only), plan_time_s (FFT planning), info (free-form dict: method details),
+    counters (``COUNTER_KEYS``: transforms, iterations, linear_iterations; the same for every
+    method).
     """
 
     scene: Scene
@@ -63,6 +72,7 @@ class ContactResult:
     wall_time_s: float = 0.0
     plan_time_s: float = 0.0
     info: dict = field(default_factory=dict)
+    counters: dict = field(default_factory=lambda: dict.fromkeys(COUNTER_KEYS, 0))
 
     # --- SI views -----------------------------------------------------------------------------
     @property
@@ -141,4 +151,130 @@ class ContactResult:
             "surface_shear_Pa": self.surface_shear_Pa,
             "base_sigma_zz_Pa": self.base_sigma_zz_Pa,
             "base_sigma_xz_Pa": self.base_sigma_xz_Pa,
+        }
+
+
+JSON_KEYS_3D = (
+    "model", "method", "indenter", "force_N", "mu", "young_Pa", "radius_m", "thickness_m",
+    "contact_area_m2", "contact_radius_m", "contact_x_min_m", "contact_x_max_m",
+    "contact_y_half_width_m", "pressure_centroid_x_m", "indentation_m", "max_pressure_Pa",
+    "max_pressure_x_m", "max_pressure_y_m", "line_load_y0_N_per_m", "grid_points",
+    "domain_length_m", "iterations", "residual", "error_estimate", "wall_time_s", "plan_time_s",
+)
+"""JSON keys of a 3D result (+ length_m for a cylinder, radius_x_m and radius_y_m for a
+paraboloid)."""
+MAP_KEYS = ("x_m", "y_m", "pressure_Pa", "base_sigma_zz_Pa", "base_sigma_xz_Pa", "base_sigma_yz_Pa",
+            "surface_ux_m", "surface_uy_m", "surface_uz_m")
+
+
+@dataclass
+class ContactResult3D:
+    """Solution of one 3D scene (``physics.scene.Scene3D``): fields on the surface grid.
+
+    Dimensionless (lengths in h, displacements in h^2/2R, stresses in E h/6R), arrays indexed
+    [x, y] on the axes ``x`` (nx) and ``y`` (ny), apex at (0, 0), x the sliding direction:
+
+    pressure                       p >= 0 (= -sigma_zz(x, y, h))
+    base_sigma_zz, _xz, _yz        base tractions (sigma_zz < 0 in compression)
+    surface_ux, _uy, _uz           surface displacements (u_z > 0 upward: the film sinks, u_z < 0)
+    measures : dict                area, x_min, x_max, y_min, y_max, pmax, xmax, ymax, xc,
+                                   load, line_load_y0 (``numerics.measure2d``), indentation
+    error_estimate                 relative, of the contact radius, extents, centroid (relative
+                                   to the radius), indentation and peak pressure
+    counters                       transforms, iterations, linear_iterations
+    """
+
+    scene: object
+    model: str
+    method: str
+    x: np.ndarray
+    y: np.ndarray
+    pressure: np.ndarray
+    base_sigma_zz: np.ndarray
+    base_sigma_xz: np.ndarray
+    base_sigma_yz: np.ndarray
+    surface_ux: np.ndarray
+    surface_uy: np.ndarray
+    surface_uz: np.ndarray
+    measures: dict
+    grid_points: tuple
+    domain_length: tuple
+    iterations: int
+    residual: float
+    error_estimate: float
+    wall_time_s: float = 0.0
+    plan_time_s: float = 0.0
+    info: dict = field(default_factory=dict)
+    counters: dict = field(default_factory=lambda: dict.fromkeys(COUNTER_KEYS, 0))
+
+    @property
+    def indentation(self) -> float:
+        return self.measures["indentation"]
+
+    @property
+    def contact_radius(self) -> float:
+        """sqrt(area / pi), in h."""
+        return float(np.sqrt(self.measures["area"] / np.pi))
+
+    def summary(self) -> dict:
+        """The JSON record (all SI); see ``JSON_KEYS_3D``."""
+        s, L = self.scene, self.scene.length_unit
+        m, S = self.measures, self.scene.stress_unit
+        out = {
+            "model": self.model, "method": self.method, "indenter": s.indenter,
+            "force_N": s.force, "mu": s.mu, "young_Pa": s.young, "radius_m": s.radius,
+            "thickness_m": s.thickness,
+        }
+        if s.indenter == "cylinder":
+            out["length_m"] = s.length
+        if s.indenter == "paraboloid":
+            out["radius_x_m"], out["radius_y_m"] = s.radius_x, s.radius_y
+        out.update({
+            "contact_area_m2": float(m["area"] * L * L),
+            "contact_radius_m": float(self.contact_radius * L),
+            "contact_x_min_m": float(m["x_min"] * L) + 0.0,
+            "contact_x_max_m": float(m["x_max"] * L) + 0.0,
+            "contact_y_half_width_m": float(0.5 * (m["y_max"] - m["y_min"]) * L),
+            "pressure_centroid_x_m": float(m["xc"] * L) + 0.0,
+            "indentation_m": float(m["indentation"] * s.displacement_unit),
+            "max_pressure_Pa": float(m["pmax"] * S),
+            "max_pressure_x_m": float(m["xmax"] * L) + 0.0,
+            "max_pressure_y_m": float(m["ymax"] * L) + 0.0,
+            "line_load_y0_N_per_m": float(m["line_load_y0"] * S * L),
+            "grid_points": [int(n) for n in self.grid_points],
+            "domain_length_m": [float(d * L) for d in self.domain_length],
+            "iterations": int(self.iterations),
+            "residual": float(self.residual),
+            "error_estimate": float(self.error_estimate),
+            "wall_time_s": float(self.wall_time_s),
+            "plan_time_s": float(self.plan_time_s),
+        })
+        return out
+
+    def maps(self) -> dict:
+        """The surface and base fields in SI, named as ``MAP_KEYS`` ((nx, ny) arrays [x, y])."""
+        s = self.scene
+        L, S, U = s.length_unit, s.stress_unit, s.displacement_unit
+        return {
+            "x_m": self.x * L, "y_m": self.y * L,
+            "pressure_Pa": self.pressure * S,
+            "base_sigma_zz_Pa": self.base_sigma_zz * S,
+            "base_sigma_xz_Pa": self.base_sigma_xz * S,
+            "base_sigma_yz_Pa": self.base_sigma_yz * S,
+            "surface_ux_m": self.surface_ux * U,
+            "surface_uy_m": self.surface_uy * U,
+            "surface_uz_m": self.surface_uz * U,
+        }
+
+    def profiles(self) -> dict:
+        """The y = 0 line (the grid line nearest it) in SI, with the 2D profile columns."""
+        j = int(np.argmin(np.abs(self.y)))
+        s = self.scene
+        L, S = s.length_unit, s.stress_unit
+        return {
+            "x_m": self.x * L,
+            "pressure_Pa": self.pressure[:, j] * S,
+            "surface_shear_Pa": s.mu * self.pressure[:, j] * S,
+            "base_sigma_zz_Pa": self.base_sigma_zz[:, j] * S,
+            "base_sigma_xz_Pa": self.base_sigma_xz[:, j] * S,
         }

@@ -16,9 +16,10 @@ import time
 import numpy as np
 
 from spectral_contact import PAPER_SCENE, solve
-from spectral_contact.numerics.contact import Indenter, solve_contact
+from spectral_contact.numerics.contact import solve_contact
 from spectral_contact.numerics.fft import get_rfft
 from spectral_contact.numerics.grid import Grid
+from spectral_contact.physics.indenters import Cylinder
 
 from ._common import median_time, parse, progress, table
 
@@ -52,7 +53,7 @@ def main(argv=None) -> int:
                  "error_estimate": r.error_estimate})
     L = r.domain_length
     grid_center = r.center
-    indenter = [Indenter(0.0, scene.P)]
+    indenter = [Cylinder(0.0, scene.P)]
     for i, e in enumerate(exps, 1):
         n = 2**e
         g = Grid.centered(n, L, grid_center)

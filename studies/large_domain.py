@@ -40,11 +40,12 @@ import pyfftw
 
 from spectral_contact import ConvergenceError, Scene, solve
 from spectral_contact.numerics import fft as fftmod
-from spectral_contact.numerics.contact import Indenter, solve_contact
+from spectral_contact.numerics.contact import solve_contact
 from spectral_contact.numerics.edges import fit_edges
 from spectral_contact.numerics.fft import RealFFT, get_rfft
 from spectral_contact.numerics.grid import Grid
 from spectral_contact.physics.film import DECAY_RATE
+from spectral_contact.physics.indenters import Cylinder
 
 from ._common import median_time, parse, progress, table
 from .stability import short
@@ -99,7 +100,7 @@ def per_indenter(sol, indenters):
 # --- 1. cost against N ---------------------------------------------------------------------------
 def cost_sweep(scene, exps, t0):
     dx = 1.0 / 64
-    ind = [Indenter(0.0, scene.P)]
+    ind = [Cylinder(0.0, scene.P)]
     rows = []
     for i, e in enumerate(exps, 1):
         n = 2**e
@@ -145,7 +146,7 @@ def planning_sweep(scene, exps, out, t0):
     """ESTIMATE vs MEASURE: plan times, transform times and warm solve times (minimum over
     interleaved repeats: the machine may be shared, and the minimum is the least disturbed)."""
     dx = 1.0 / 64
-    ind = [Indenter(0.0, scene.P)]
+    ind = [Cylinder(0.0, scene.P)]
     saved = fftmod.WISDOM_FILE
     fftmod.WISDOM_FILE = out / "fftw_wisdom"  # keep the user's wisdom untouched
     rows = []
@@ -213,7 +214,7 @@ def _train_grid(span: float) -> Grid:
 
 def isolated(P, curvature=1.0):
     g = Grid.centered(2048, 2048 * DX_TRAIN, 0.0)  # 64 h
-    ind = [Indenter(0.0, P, curvature)]
+    ind = [Cylinder(0.0, P, curvature)]
     sol = solve_contact(g, MU, ind)
     dt = _median_time(lambda: solve_contact(g, MU, ind), 3)  # warm
     a, c, d = per_indenter(sol, ind)
@@ -224,8 +225,8 @@ def isolated(P, curvature=1.0):
 def periodic_cell(P, s):
     """One cylinder on period s: the infinite periodic train."""
     n = round(s / DX_TRAIN)
-    sol = solve_contact(Grid.centered(n, n * DX_TRAIN, 0.0), MU, [Indenter(0.0, P)])
-    a, c, d = per_indenter(sol, [Indenter(0.0, P)])
+    sol = solve_contact(Grid.centered(n, n * DX_TRAIN, 0.0), MU, [Cylinder(0.0, P)])
+    a, c, d = per_indenter(sol, [Cylinder(0.0, P)])
     return a[0], d[0]
 
 
@@ -234,7 +235,7 @@ def train_sweep(scene, M, spacings, t0):
     iso = isolated(P)
     rows, profiles = [], {}
     for i, s in enumerate(spacings, 1):
-        inds = [Indenter((k - M // 2) * s, P) for k in range(M)]
+        inds = [Cylinder((k - M // 2) * s, P) for k in range(M)]
         g = _train_grid((M - 1) * s)
         row = {"M": M, "spacing": s, "gap_iso": s - 2 * iso["a"], "N": g.n, "L": g.length,
                "status": "ok"}
@@ -267,7 +268,7 @@ def periodic_check(scene, M, s):
     """M equal cylinders on period M s must reproduce one cylinder on period s exactly."""
     P = scene.P
     n = round(s / DX_TRAIN)
-    inds = [Indenter((k - M // 2) * s, P) for k in range(M)]
+    inds = [Cylinder((k - M // 2) * s, P) for k in range(M)]
     sol = solve_contact(Grid.centered(M * n, M * n * DX_TRAIN, 0.0), MU, inds)
     a, _, d = per_indenter(sol, inds)
     a1, d1 = periodic_cell(P, s)
@@ -279,7 +280,7 @@ def train_size_sweep(scene, Ms, s, t0):
     iso = isolated(P)
     rows = []
     for i, M in enumerate(Ms, 1):
-        inds = [Indenter((k - M // 2) * s, P) for k in range(M)]
+        inds = [Cylinder((k - M // 2) * s, P) for k in range(M)]
         g = _train_grid((M - 1) * s)
         sol = solve_contact(g, MU, inds)  # warms plans and symbols
         dt = _median_time(lambda: solve_contact(g, MU, inds), 3)
@@ -306,7 +307,7 @@ def unequal_sweep(scene, curv, loads_rel, spacings, t0):
                      "iso_vs_front_door": isos[k]["a"] / r.half_width - 1})
     profiles, times = {}, {}
     for j, s in enumerate(spacings, 1):
-        inds = [Indenter((k - M // 2) * s, P * lr, c) for k, (c, lr) in
+        inds = [Cylinder((k - M // 2) * s, P * lr, c) for k, (c, lr) in
                 enumerate(zip(curv, loads_rel))]
         g = _train_grid((M - 1) * s)
         try:

@@ -51,10 +51,11 @@ import time
 import numpy as np
 
 from spectral_contact import Scene, solve
-from spectral_contact.numerics.contact import Indenter, solve_contact
+from spectral_contact.numerics.contact import solve_contact
 from spectral_contact.numerics.fft import get_rfft
 from spectral_contact.numerics.grid import Grid
 from spectral_contact.physics.film import surface_compliance
+from spectral_contact.physics.indenters import Cylinder
 from spectral_contact.reference.hertz import hertz_half_width, hertz_pressure
 
 from ._common import parse, progress, table
@@ -132,7 +133,7 @@ def _row(case, solver, version, grid, P, p, t, its, cost, symbol, p_ref, a_sub=f
 
 # --- solvers on a given grid: each a runner doing one cold solve, timing the solve call only ---
 def ours_runner(grid: Grid, P: float):
-    ind = [Indenter(0.0, P)]
+    ind = [Cylinder(0.0, P)]
 
     def run():
         t = time.perf_counter()

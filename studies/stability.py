@@ -32,10 +32,11 @@ import time
 import numpy as np
 
 from spectral_contact import ConvergenceError, Scene, solve
-from spectral_contact.numerics.contact import Indenter, solve_contact
+from spectral_contact.numerics.contact import solve_contact
 from spectral_contact.numerics.edges import fit_edges, peak
 from spectral_contact.numerics.grid import Grid
 from spectral_contact.physics.film import DECAY_RATE
+from spectral_contact.physics.indenters import Cylinder
 
 from ._common import parse, progress, table
 
@@ -82,7 +83,7 @@ def errors(q: dict, ref: dict) -> dict:
 def solve_grid(n, L, center, mu, P, shift=0.0):
     """One cold contact solve: n points on period L, the middle node at center + shift dx."""
     g = Grid.centered(n, L, center + shift * L / n)
-    return solve_contact(g, mu, [Indenter(0.0, P)])
+    return solve_contact(g, mu, [Cylinder(0.0, P)])
 
 
 # --- 1. domain length ----------------------------------------------------------------------------

@@ -4,8 +4,9 @@ import numpy as np
 import pytest
 
 from spectral_contact import ConvergenceError, InputError, solve
-from spectral_contact.numerics.contact import Indenter, solve_contact
+from spectral_contact.numerics.contact import solve_contact
 from spectral_contact.numerics.grid import Grid
+from spectral_contact.physics.indenters import Cylinder
 
 from .conftest import scene_for
 
@@ -36,7 +37,7 @@ def test_equilibrium_and_amontons(paper_exact):
 
 def test_complementarity_on_grid():
     g = Grid.centered(2048, 16.0, 0.5)
-    sol = solve_contact(g, 2.0, [Indenter(0.0, 17.7)])
+    sol = solve_contact(g, 2.0, [Cylinder(0.0, 17.7)])
     p, gap = sol.pressure, sol.gap
     scale = np.abs(sol.sinking).max()
     assert p.min() >= 0
@@ -130,7 +131,7 @@ def test_converges_over_the_required_range(mu, aH):
 def test_nonconvergence_raises_with_history():
     g = Grid.centered(1024, 16.0)
     with pytest.raises(ConvergenceError) as exc:
-        solve_contact(g, 2.0, [Indenter(0.0, 17.7)], max_outer=1)
+        solve_contact(g, 2.0, [Cylinder(0.0, 17.7)], max_outer=1)
     assert exc.value.residuals and exc.value.iterations == 1
 
 
@@ -149,6 +150,6 @@ def test_bad_input_names_the_parameter(kw, name):
 def test_iterations_do_not_grow_with_n():
     its = {}
     for n in (2**12, 2**16):
-        sol = solve_contact(Grid.centered(n, 16.0, 0.6), 2.0, [Indenter(0.0, 17.7)])
+        sol = solve_contact(Grid.centered(n, 16.0, 0.6), 2.0, [Cylinder(0.0, 17.7)])
         its[n] = sol.krylov_iterations / sol.iterations
     assert its[2**16] <= 2 * its[2**12]

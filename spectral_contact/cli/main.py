@@ -12,6 +12,7 @@ import sys
 
 from ..errors import ConvergenceError, InputError, SpectralContactError
 from ..physics.scene import PAPER_SCENE
+from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR
 
 __all__ = ["main", "build_parser"]
 
@@ -26,7 +27,20 @@ class _Parser(argparse.ArgumentParser):
 
 def _add_scene_options(p):
     d = PAPER_SCENE
-    p.add_argument("--load", type=float, default=d.load, help=f"P_L, lineic load [N/m] (default {d.load:g})")
+    p.add_argument("--indenter", choices=("line", "sphere", "cylinder", "paraboloid"), default="line",
+                   help="line: the plane-strain cylinder of the paper (--load, N/m); sphere, "
+                        "cylinder (finite length along y, sharp ends), paraboloid (--radius-x, "
+                        "--radius-y): 3D, pressed with --force [N] (default line)")
+    p.add_argument("--load", type=float, default=None,
+                   help=f"P_L, lineic load [N/m], line indenter only (default {d.load:g})")
+    p.add_argument("--force", type=float, default=None,
+                   help="F, total normal force [N], 3D indenters only (default 1)")
+    p.add_argument("--length", type=float, default=None,
+                   help="cylinder length along y [m] (default 0.008: the paper's cover slide)")
+    p.add_argument("--radius-x", type=float, default=None,
+                   help="paraboloid radius along x, the sliding direction [m] (default --radius)")
+    p.add_argument("--radius-y", type=float, default=None,
+                   help="paraboloid radius along y [m] (default --radius)")
     p.add_argument("--mu", type=float, default=d.mu,
                    help=f"mu_d, friction coefficient, signed: < 0 slides toward -x (default {d.mu:g})")
     p.add_argument("--young", type=float, default=d.young, help=f"E [Pa] (default {d.young:g})")
@@ -72,8 +86,14 @@ def _cmd_solve(args) -> int:
     from ..physics.scene import Scene
     from .files import check_plot_path, to_json, write_csv
 
-    scene = Scene(load=args.load, mu=args.mu, young=args.young, radius=args.radius,
-                  thickness=args.thickness)
+    if args.indenter != "line":
+        return _cmd_solve3d(args)
+    for opt in ("force", "length", "radius_x", "radius_y", "maps"):
+        if getattr(args, opt) is not None:
+            raise InputError(f"--{opt.replace('_', '-')} is for 3D indenters (--indenter sphere, "
+                             f"cylinder, paraboloid); the line indenter takes --load [N/m]")
+    scene = Scene(load=PAPER_SCENE.load if args.load is None else args.load, mu=args.mu,
+                  young=args.young, radius=args.radius, thickness=args.thickness)
     if args.plot:
         check_plot_path(args.plot)
     r = solve(scene, model=args.model, method=args.method, tol=args.tol,
@@ -101,6 +121,114 @@ def _cmd_solve(args) -> int:
     return 0
 
 
+def _summary_text3d(r) -> str:
+    s = r.summary()
+    mm, kPa = 1e3, 1e-3
+    extra = {"cylinder": f", length {s.get('length_m', 0) * mm:g} mm",
+             "paraboloid": f", R_x = {s.get('radius_x_m', 0) * mm:g} mm, "
+                           f"R_y = {s.get('radius_y_m', 0) * mm:g} mm"}.get(s["indenter"], "")
+    lines = [
+        f"{s['model']} model, {s['method']} method, {s['indenter']}{extra}: F = {s['force_N']:g} N, "
+        f"mu_d = {s['mu']:g}, E = {s['young_Pa'] / 1e6:g} MPa, R = {s['radius_m'] * mm:g} mm, "
+        f"h = {s['thickness_m'] * mm:g} mm",
+        f"  contact area             {s['contact_area_m2'] * 1e6:10.5f} mm^2 "
+        f"(radius sqrt(A/pi) {s['contact_radius_m'] * mm:.5f} mm)",
+        f"  contact x extent         {s['contact_x_min_m'] * mm:10.5f} .. "
+        f"{s['contact_x_max_m'] * mm:.5f} mm (apex = 0), y half-width "
+        f"{s['contact_y_half_width_m'] * mm:.5f} mm",
+        f"  pressure centroid x      {s['pressure_centroid_x_m'] * mm:10.5f} mm",
+        f"  indentation              {s['indentation_m'] * 1e6:10.5f} um",
+        f"  peak pressure            {s['max_pressure_Pa'] * kPa:10.4f} kPa at "
+        f"({s['max_pressure_x_m'] * mm:.4f}, {s['max_pressure_y_m'] * mm:.4f}) mm",
+        f"  line load at y = 0       {s['line_load_y0_N_per_m']:10.4f} N/m",
+        f"  grid {s['grid_points'][0]} x {s['grid_points'][1]} points over "
+        f"{s['domain_length_m'][0] * mm:.2f} x {s['domain_length_m'][1] * mm:.2f} mm, "
+        f"{s['iterations']} iterations, residual {s['residual']:.1e}, error estimate "
+        f"{s['error_estimate']:.1e}, solve {s['wall_time_s'] * 1e3:.0f} ms "
+        f"(+ planning {s['plan_time_s'] * 1e3:.0f} ms)",
+    ]
+    if r.scene.indenter == "cylinder":
+        lines.append("  (sharp ends: the peak pressure there grows with the resolution; it is "
+                     "reported, not controlled by --tol)")
+    return "\n".join(lines)
+
+
+def _cmd_solve3d(args) -> int:
+    from pathlib import Path
+
+    import numpy as np
+
+    from ..api import solve
+    from ..physics.scene import Scene3D
+    from .files import check_plot_path, to_json, write_csv
+
+    if args.load is not None:
+        raise InputError(f"--load [N/m] is for the line indenter; --indenter {args.indenter} takes "
+                         f"--force [N]")
+    if args.method != "fft":
+        raise InputError(f"--method {args.method} is for the line indenter; 3D indenters use fft")
+    for opt, kind in (("length", "cylinder"), ("radius_x", "paraboloid"), ("radius_y", "paraboloid")):
+        if getattr(args, opt) is not None and args.indenter != kind:
+            raise InputError(f"--{opt.replace('_', '-')} applies to --indenter {kind} only")
+    kw = {"length": args.length} if args.length is not None else {}
+    scene = Scene3D(indenter=args.indenter, force=1.0 if args.force is None else args.force,
+                    mu=args.mu, young=args.young, radius=args.radius, thickness=args.thickness,
+                    radius_x=args.radius_x, radius_y=args.radius_y, **kw)
+    for path, what in ((args.plot, "--plot"), (args.maps, "--maps"), (args.profiles, "--profiles")):
+        if path is not None and not Path(path).absolute().parent.is_dir():
+            raise InputError(f"{what} {path}: directory {Path(path).parent} does not exist")
+    if args.plot:
+        check_plot_path(args.plot)
+    r = solve(scene, model=args.model, method="fft", tol=args.tol, grid_points=args.grid_points,
+              domain_length=args.domain_length)
+    sensor = None
+    if args.sensor:
+        from ..instruments.sensor import sensor_maps
+
+        sensor = sensor_maps(r, A_zz_mV_per_bar=args.a_zz, A_xz_mV_per_bar=args.a_xz)
+    if args.maps:
+        arrays = r.maps()
+        if sensor:
+            arrays.update({k: sensor[k] for k in ("S_zz_Pa", "S_xz_Pa", "S_yz_Pa")})
+        _save_npz(args.maps, arrays)
+    if args.profiles:
+        cols = r.profiles()
+        if sensor:
+            j = int(np.argmin(np.abs(r.y)))
+            cols.update({k: sensor[k][:, j] for k in ("S_zz_Pa", "S_xz_Pa", "U_zz_mV", "U_xz_mV")})
+        write_csv(args.profiles, cols)
+    if args.plot:
+        from .plots import plot_maps
+
+        plot_maps(r, args.plot, sensor=sensor)
+    if args.json:
+        print(to_json(r.summary()))
+    else:
+        print(_summary_text3d(r))
+    return 0
+
+
+def _save_npz(path, arrays: dict) -> None:
+    """Write an .npz whole or not at all (temporary file beside it, then rename)."""
+    import os
+    import tempfile
+    from pathlib import Path
+
+    import numpy as np
+
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", prefix=path.name,
+                               suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            np.savez(fh, **arrays)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
 def _cmd_study(args) -> int:
     try:
         mod = importlib.import_module(f"studies.{args.name}")
@@ -119,15 +247,24 @@ def build_parser() -> argparse.ArgumentParser:
     _add_scene_options(p)
     p.add_argument("--model", choices=("exact", "goodman", "hertz", "auto"), default="exact")
     p.add_argument("--method", choices=("fft", "abel"), default="fft")
-    p.add_argument("--tol", type=float, default=1e-4, help="relative accuracy target, in (0, 0.1) (default 1e-4)")
-    p.add_argument("--grid-points", type=int, default=None, help="fix N instead of choosing it from --tol")
-    p.add_argument("--domain-length", type=float, default=None, help="fix the FFT period L [m]")
+    p.add_argument("--tol", type=float, default=None,
+                   help="relative accuracy target, in (0, 0.1) (default 1e-4 for the line "
+                        "indenter; 1e-3 in 3D, 1e-2 for the finite cylinder: its sharp ends "
+                        "converge at first order)")
+    p.add_argument("--grid-points", type=int, default=None,
+                   help="fix N instead of choosing it from --tol (3D: points per axis)")
+    p.add_argument("--domain-length", type=float, default=None,
+                   help="fix the FFT period L [m] (3D: both axes)")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
     p.add_argument("--profiles", metavar="FILE.csv", help="write the profiles (SI) as CSV")
-    p.add_argument("--plot", metavar="FILE.png", help="plot pressure and base stresses")
+    p.add_argument("--plot", metavar="FILE.png", help="plot pressure and base stresses (3D: maps)")
+    p.add_argument("--maps", metavar="FILE.npz", default=None,
+                   help="3D indenters: write the surface and base maps (SI, arrays [x, y])")
     p.add_argument("--sensor", action="store_true", help="add the MEMS sensor view (S, U) to profiles and plot")
-    p.add_argument("--a-zz", type=float, default=19.00, help="A_zz [mV/bar] (default 19.00)")
-    p.add_argument("--a-xz", type=float, default=7.95, help="A_xz [mV/bar] (default 7.95)")
+    p.add_argument("--a-zz", type=float, default=A_ZZ_MV_PER_BAR,
+                   help=f"A_zz [mV/bar] (default {A_ZZ_MV_PER_BAR:.2f})")
+    p.add_argument("--a-xz", type=float, default=A_XZ_MV_PER_BAR,
+                   help=f"A_xz [mV/bar] (default {A_XZ_MV_PER_BAR:.2f})")
     p.set_defaults(func=_cmd_solve)
     p = sub.add_parser("study", help="run a study from studies/ (python -m studies.NAME)")
     p.add_argument("name")

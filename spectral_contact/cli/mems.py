@@ -13,6 +13,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..physics.scene import check_positive
+from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR
 from .files import check_plot_path
 
 __all__ = ["register", "COMPARE_JSON_KEYS", "CALIBRATE_JSON_KEYS"]
@@ -29,9 +31,7 @@ def _positive(name):
             v = float(text)
         except ValueError:
             raise InputError(f"{name} must be a number > 0; got {text!r}") from None
-        if not (math.isfinite(v) and v > 0):
-            raise InputError(f"{name} must be a finite number > 0; got {text!r}")
-        return v
+        return check_positive(name, v, "")
     return conv
 
 
@@ -63,10 +63,10 @@ def register(subparsers) -> None:
     p.add_argument("--radius", type=_positive("--radius"), default=0.130, help="R [m] (0.130)")
     p.add_argument("--thickness", type=_positive("--thickness"), default=0.002,
                    help="h [m] (0.002)")
-    p.add_argument("--a-zz", type=_positive("--a-zz"), default=19.00,
-                   help="A_zz [mV/bar] for U files (19.00)")
-    p.add_argument("--a-xz", type=_positive("--a-xz"), default=7.95,
-                   help="A_xz [mV/bar] for U files (7.95)")
+    p.add_argument("--a-zz", type=_positive("--a-zz"), default=A_ZZ_MV_PER_BAR,
+                   help=f"A_zz [mV/bar] for U files ({A_ZZ_MV_PER_BAR:.2f})")
+    p.add_argument("--a-xz", type=_positive("--a-xz"), default=A_XZ_MV_PER_BAR,
+                   help=f"A_xz [mV/bar] for U files ({A_XZ_MV_PER_BAR:.2f})")
     p.add_argument("--apparatus-zz", metavar="G.csv", default=None,
                    help="radial G_zz (columns r_m, G or G_per_m2) instead of the paper's")
     p.add_argument("--apparatus-xz", metavar="G.csv", default=None,

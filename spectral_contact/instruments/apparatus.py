@@ -48,15 +48,14 @@ import numpy as np
 from scipy.special import j1
 
 from ..errors import InputError
+from ..numerics.grid import Grid
 from ..physics.scene import check_positive
+from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR, PA_PER_BAR  # noqa: F401 (re-exported)
 
 __all__ = ["ApparatusFunction", "GaussianFoot", "TabulatedApparatus", "load_apparatus_csv",
            "G_ZZ", "G_XZ", "A_ZZ_MV_PER_BAR", "A_XZ_MV_PER_BAR", "PA_PER_BAR",
            "default_apparatus", "check_gain"]
 
-A_ZZ_MV_PER_BAR = 19.00
-A_XZ_MV_PER_BAR = 7.95
-PA_PER_BAR = 1e5
 
 
 def check_gain(name: str, value) -> float:
@@ -89,15 +88,8 @@ class ApparatusFunction(ABC):
     def line_symbol(self, n: int, dx: float) -> np.ndarray:
         """Half-spectrum (rfft layout) of the line form on a periodic grid of n points, step dx,
         such that irfft(symbol * rfft(f)) is g (*) f; symbol[0] = 1 (unit integral)."""
-        k = 2.0 * np.pi * np.fft.rfftfreq(int(n), float(dx))
+        k = Grid(int(n), int(n) * float(dx)).k
         return np.asarray(self.transform(k), dtype=float)
-
-    def plane_symbol(self, shape, dx: float) -> np.ndarray:
-        """Half-spectrum (rfft2 layout) of G on a periodic (ny, nx) grid of step dx."""
-        ny, nx = shape
-        ky = 2.0 * np.pi * np.fft.fftfreq(ny, dx)
-        kx = 2.0 * np.pi * np.fft.rfftfreq(nx, dx)
-        return np.asarray(self.transform(np.hypot(ky[:, None], kx[None, :])), dtype=float)
 
 
 class GaussianFoot(ApparatusFunction):
@@ -246,16 +238,6 @@ class TabulatedApparatus(ApparatusFunction):
         g = self.line(xs)
         sym = np.fft.rfft(g).real  # g is even on the periodic grid: real transform
         return sym / sym[0]
-
-    def plane_symbol(self, shape, dx: float) -> np.ndarray:
-        ny, nx = shape
-        jy = np.arange(ny)
-        jx = np.arange(nx)
-        ys = np.where(jy <= ny // 2, jy, jy - ny) * dx
-        xs = np.where(jx <= nx // 2, jx, jx - nx) * dx
-        G = self.radial(np.hypot(ys[:, None], xs[None, :]))
-        sym = np.fft.rfft2(G).real
-        return sym / sym[0, 0]
 
     def __repr__(self):
         return f"TabulatedApparatus({self.source!r}, {self.r.size} points, r_max={self.r[-1]:g} m)"

@@ -43,7 +43,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..numerics.fft import get_rfft
-from ..physics.transfer import transfer_functions
+from ..numerics.grid import Grid
+from ..physics.film import Film
 
 __all__ = ["base_stresses_3d", "base_stresses_axisym", "flat_punch_transform",
            "uniform_disc_transform", "flat_punch_base_stresses", "punch_sensitivity",
@@ -51,10 +52,11 @@ __all__ = ["base_stresses_3d", "base_stresses_axisym", "flat_punch_transform",
 
 
 def plane_grid(n: int, dx: float):
-    """(ky, kx, |k|) of the rfft2 half-spectrum of an n x n periodic grid of step dx [1/m]."""
-    ky = 2.0 * np.pi * np.fft.fftfreq(n, dx)[:, None]
-    kx = 2.0 * np.pi * np.fft.rfftfreq(n, dx)[None, :]
-    return ky, kx, np.hypot(ky, kx)
+    """(ky, kx, |k|) of the rfft2 half-spectrum of an n x n periodic grid of step dx [1/m]:
+    arrays here are indexed [y, x] (the rfft axis is x), so the grid's axes are (y, x)."""
+    g = Grid((n, n), (n * dx, n * dx))
+    ky, kx = g.wavevector
+    return ky, kx, g.kmag
 
 
 def base_stresses_3d(szz_hat, tx_hat, ty_hat, kx, ky, thickness_m):
@@ -64,22 +66,10 @@ def base_stresses_3d(szz_hat, tx_hat, ty_hat, kx, ky, thickness_m):
     kx = np.asarray(kx, dtype=float)
     ky = np.asarray(ky, dtype=float)
     k = np.hypot(kx, ky)
-    _, _, A, B, C = transfer_functions(k * thickness_m)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        ex = np.where(k > 0, kx / np.where(k > 0, k, 1.0), 0.0)
-        ey = np.where(k > 0, ky / np.where(k > 0, k, 1.0), 0.0)
-    T = 1.0 / np.cosh(np.minimum(k * thickness_m, 700.0))
-    zero = 0.0
-    tx = zero if tx_hat is None else tx_hat
-    ty = zero if ty_hat is None else ty_hat
-    tk = ex * tx + ey * ty
-    out_zz = A * szz_hat + 1j * B * tk
-    out_k = C * tk + 1j * B * szz_hat
-    # transverse parts: tau - e_k tau_k (at k = 0, e_k = 0 and tau passes unchanged: T(0) = 1)
-    perp_x = tx - ex * tk
-    perp_y = ty - ey * tk
-    out_x = ex * out_k + T * perp_x
-    out_y = ey * out_k + T * perp_y
+    safe = np.where(k > 0, k, 1.0)
+    direction = (np.where(k > 0, kx / safe, 1.0), np.where(k > 0, ky / safe, 0.0))  # e_x at 0
+    tau = (0.0 if tx_hat is None else tx_hat, 0.0 if ty_hat is None else ty_hat)
+    out_zz, (out_x, out_y) = Film(float(thickness_m)).base_transfer(direction, k, szz_hat, tau)
     return out_zz, out_x, out_y
 
 

@@ -71,6 +71,7 @@ from scipy.interpolate import CubicSpline
 
 from ..errors import InputError
 from ..numerics.fft import get_rfft
+from ..numerics.grid import Grid
 from .apparatus import PA_PER_BAR, TabulatedApparatus
 
 __all__ = ["Calibration", "calibrate", "estimate_noise_sd", "axisymmetric_field"]
@@ -171,9 +172,9 @@ class _Grid:
             self.cos = np.where(self.rr > 0, c[None, :] / np.where(self.rr > 0, self.rr, 1.0),
                                 0.0)
         self.fft = get_rfft((self.n, self.n))
-        ky = 2.0 * np.pi * np.fft.fftfreq(self.n, self.dx)[:, None]
-        self.kx = 2.0 * np.pi * np.fft.rfftfreq(self.n, self.dx)
-        self.k = np.hypot(ky, self.kx[None, :])
+        grid = Grid((self.n, self.n), (self.L, self.L))  # arrays indexed [y, x]: rfft along x
+        self.kx = grid.wavevector[1].ravel()
+        self.k = grid.kmag
         w = np.full(self.k.shape, 2.0)  # Hermitian weights of the half spectrum
         w[:, 0] = 1.0
         w[:, -1] = 1.0

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR, PA_PER_BAR
 
 __all__ = ["read_table", "read_measured_profile", "read_radial_profile", "MeasuredProfile",
            "check_uniform", "STRESS_COLUMNS", "VOLTAGE_COLUMNS", "MIN_POINTS", "UNIFORM_RTOL"]
@@ -31,7 +32,6 @@ STRESS_COLUMNS = ("x_m", "S_zz_Pa", "S_xz_Pa")
 VOLTAGE_COLUMNS = ("x_m", "U_zz_mV", "U_xz_mV")
 MIN_POINTS = 8
 UNIFORM_RTOL = 1e-3
-_PA_PER_BAR = 1e5
 
 
 def _short(s: str, n: int = 40) -> str:
@@ -145,12 +145,13 @@ class MeasuredProfile:
     def dx(self) -> float:
         return float((self.x_m[-1] - self.x_m[0]) / (self.x_m.size - 1))
 
-    def stresses(self, A_zz_mV_per_bar: float = 19.00, A_xz_mV_per_bar: float = 7.95):
+    def stresses(self, A_zz_mV_per_bar: float = A_ZZ_MV_PER_BAR,
+                 A_xz_mV_per_bar: float = A_XZ_MV_PER_BAR):
         """(S_zz_Pa, S_xz_Pa): the file's stresses, or its outputs divided by A [mV/Pa]."""
         if self.kind == "S":
             return self.zz.copy(), self.xz.copy()
-        return (self.zz / (A_zz_mV_per_bar / _PA_PER_BAR),
-                self.xz / (A_xz_mV_per_bar / _PA_PER_BAR))
+        return (self.zz / (A_zz_mV_per_bar / PA_PER_BAR),
+                self.xz / (A_xz_mV_per_bar / PA_PER_BAR))
 
 
 def read_measured_profile(path, min_points: int = MIN_POINTS) -> MeasuredProfile:

@@ -1,20 +1,24 @@
-"""Load-controlled frictional contact on the periodic film surface (dimensionless core).
+"""Load-controlled contact on a periodic grid: active set + preconditioned GMRES (dimensionless).
 
-The unknown contact set is found by a primal-dual active-set iteration (a semismooth Newton
-method for the complementarity conditions p >= 0, gap >= 0, p * gap = 0).  For a fixed active set
-the bordered linear system
+The solver (``solve_complementarity``) knows neither the dimension nor the indenters' shapes: it
+takes a Fourier operator H (the surface compliance: sinking w = H p), the height field f of the
+indenters above their apexes, which indenter owns each node, and each indenter's load.  The
+unknown contact set is found by a primal-dual active-set iteration (a semismooth Newton method
+for p >= 0, gap >= 0, p * gap = 0).  For a fixed active set the bordered linear system
 
     (H p)_j - d_m(j) = -f_j     for active nodes j,
-    dx * sum_{j of indenter m} p_j = P_m,
+    cell * sum_{j of indenter m} p_j = P_m,
 
 is solved by right-preconditioned GMRES: H is not symmetric when mu != 0, so conjugate gradients
-(Polonsky-Keer) do not apply.  The preconditioner is the inverse symbol 1/H(max(|k|, pi/W))
-masked to the active set (W the widest contact): it turns the order -1 operator into an order 0
-one, so GMRES needs about 10 iterations whatever the grid size.
+(Polonsky-Keer) do not apply.  The preconditioner is the inverse symbol clipped below
+k_c = pi / W (``FourierOperator.preconditioner``), W the extent of the largest contact
+((cell count x cell)^(1/ndim): its width in 1D), masked to the active set: it turns the order -1
+operator into an order 0 one, so GMRES needs about 10 iterations whatever the grid size.
+gap = f - d + w.
 
-Indenters are parabolas f_m(x) = c_m (x - x_m)^2 (c_m = R / R_m in the paper's units), each owning
-the nodes nearer to its apex than to any other (periodically), each with its own load P_m and
-indentation d_m.  Surface sinking w = H p; gap = f - d + w.
+``solve_contact`` is the system around it: the film's compliance for friction mu as the
+operator, indenters (``physics.indenters``) giving heights and first guesses, each owning the
+nodes nearer to its apex than to any other (periodically).
 """
 from __future__ import annotations
 
@@ -24,21 +28,12 @@ from functools import lru_cache
 import numpy as np
 
 from ..errors import ConvergenceError
-from ..physics.film import surface_compliance
-from .fft import get_rfft
+from ..physics.film import Film
 from .grid import Grid
 from .krylov import gmres
+from .operators import FourierOperator
 
-__all__ = ["Indenter", "ContactSolution", "solve_contact"]
-
-
-@dataclass(frozen=True)
-class Indenter:
-    """A parabolic indenter: apex position x_m (h), load P_m (dimensionless), curvature c_m."""
-
-    apex: float
-    load: float
-    curvature: float = 1.0
+__all__ = ["ContactSolution", "solve_contact", "solve_complementarity", "compliance_operator"]
 
 
 @dataclass
@@ -59,63 +54,49 @@ class ContactSolution:
 
 
 @lru_cache(maxsize=32)
-def _symbols(n: int, length: float, mu: float):
-    """H on the grid and 1/H (k = 0 left 0: the preconditioner clips low k anyway)."""
-    k = Grid(n, length).k
-    H = surface_compliance(k, mu)
-    Hinv = np.zeros_like(H)
-    Hinv[1:] = 1.0 / H[1:]
-    return H, Hinv
+def compliance_operator(shape: tuple, lengths: tuple, mu: float, film: Film = Film(),
+                        slide: tuple = (1.0, 0.0)) -> FourierOperator:
+    """The film's surface compliance for friction ``mu`` sliding along ``slide``, on a grid of
+    ``shape`` over ``lengths`` (cached: its symbol and preconditioners are reused)."""
+    return FourierOperator(Grid(shape, lengths), film.compliance_symbol(mu, slide[:len(shape)]))
 
 
-def _owners(x, length, indenters):
-    apex = np.array([ind.apex for ind in indenters])
-    rel = x[:, None] - apex[None, :]
-    rel -= length * np.round(rel / length)  # periodic distance
-    owner = np.argmin(np.abs(rel), axis=1)
-    return owner, rel[np.arange(x.size), owner]
+def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray, loads, *,
+                          p_init: np.ndarray, rtol: float = 1e-10, accept: float | None = None,
+                          max_outer: int = 200, max_krylov: int = 2000, grid: Grid | None = None
+                          ) -> ContactSolution:
+    """Contact of rigid bodies of heights ``f`` (one field on the grid: each node's height above
+    the apex of the body that ``owner`` says it belongs to) pressed with ``loads`` (one per body,
+    dimensionless; a body with load 0 is lifted off) on the surface of compliance ``op``.
 
-
-def solve_contact(grid: Grid, mu: float, indenters, *, p_init=None, rtol: float = 1e-10,
-                  accept: float | None = None, max_outer: int = 200,
-                  max_krylov: int = 2000) -> ContactSolution:
-    """Solve the contact problem on ``grid`` for friction ``mu`` and the given indenters.
-
-    p_init : optional initial pressure on the grid (its support is the first active set);
-             by default a Hertz-like guess for each loaded indenter.
+    p_init : first pressure; its support (within loaded bodies) is the first active set.
     rtol   : relative tolerance (2-norm) of the inner linear solves.
     accept : largest final residual (max-norm, relative: gap, penetration, tension, load)
              accepted; default max(1e3 rtol, 1e-8).  Beyond it ConvergenceError is raised.
+    grid   : reported on the solution (default ``op.grid``: the solution's fields have its shape).
     """
-    n, dx = grid.n, grid.dx
-    fft = get_rfft(n)
-    H, Hinv_full = _symbols(n, grid.length, float(mu))
-    owner, rel = _owners(grid.x, grid.length, indenters)
-    curv = np.array([ind.curvature for ind in indenters])
-    loads = np.array([ind.load for ind in indenters], dtype=float)
-    f = curv[owner] * rel**2
+    shape = op.grid.shape
+    cell = op.grid.cell
+    ndim = op.grid.ndim
+    f = np.broadcast_to(f, shape).ravel()
+    owner = np.broadcast_to(owner, shape).ravel()
+    loads = np.asarray(loads, dtype=float)
+    n = f.size
     loaded = loads > 0
-    can_touch = loaded[owner]
-    M = len(indenters)
+    can_touch = loaded[owner] & np.isfinite(f)  # +inf: no body there (e.g. beyond sharp ends)
+    M = loads.size
     counter = {"fft": 0}
 
     def Hp(p):
         counter["fft"] += 1
-        return fft.apply(p, H)
+        return op.apply(p.reshape(shape)).ravel()
 
-    if p_init is None:
-        p_init = np.zeros(n)
-        for m, ind in enumerate(indenters):
-            if ind.load > 0:  # Hertz half-space guess, wider than the film's contact
-                a = np.sqrt(ind.load / (2 * np.pi * ind.curvature))
-                sel = (owner == m) & (np.abs(rel) < a)
-                p_init[sel] = 4 * ind.curvature * np.sqrt(a * a - rel[sel] ** 2)
-    active = (np.asarray(p_init) > 0) & can_touch
-    for m in np.flatnonzero(loaded):  # every loaded indenter needs a foothold
+    active = (np.asarray(p_init).ravel() > 0) & can_touch
+    for m in np.flatnonzero(loaded):  # every loaded body needs a foothold
         if not np.any(active & (owner == m)):
             active[np.flatnonzero(owner == m)[np.argmin(f[owner == m])]] = True
 
-    p = np.where(active, p_init, 0.0)
+    p = np.where(active, np.asarray(p_init).ravel(), 0.0)
     d = np.zeros(M)
     seen = set()
     history = []
@@ -124,14 +105,15 @@ def solve_contact(grid: Grid, mu: float, indenters, *, p_init=None, rtol: float 
         idx = np.flatnonzero(active)
         own = owner[idx]
         ni = idx.size
-        widths = np.maximum(np.bincount(own, minlength=M), 1) * dx
+        extents = np.maximum(np.bincount(own, minlength=M), 1) * cell
+        if ndim > 1:
+            extents = extents ** (1.0 / ndim)
         # weight of each load row: its right-hand side as large as the whole gap block's, so
         # GMRES's 2-norm stopping test controls the load as tightly as the gap
         gap_norm = max(np.linalg.norm(f[idx]), 1e-300)
         wload = np.where(loaded, gap_norm / np.where(loaded, loads, 1.0), 1.0)
-        # preconditioner: inverse symbol clipped below the lowest mode the widest contact holds
-        kc = np.pi / widths[loaded].max()
-        Hinv = np.where(grid.k >= kc, Hinv_full, 1.0 / surface_compliance(np.array([kc]), mu)[0])
+        # preconditioner: inverse symbol clipped below the lowest mode the largest contact holds
+        Hinv = op.preconditioner(np.pi / extents[loaded].max())
         buf = np.zeros(n)
 
         def matvec(v):
@@ -140,7 +122,7 @@ def solve_contact(grid: Grid, mu: float, indenters, *, p_init=None, rtol: float 
             w = Hp(buf)
             out = np.empty_like(v)
             out[:ni] = w[idx] - v[ni:][own]
-            out[ni:] = dx * np.bincount(own, weights=v[:ni], minlength=M) * wload
+            out[ni:] = cell * np.bincount(own, weights=v[:ni], minlength=M) * wload
             return out
 
         def psolve(r):
@@ -148,7 +130,7 @@ def solve_contact(grid: Grid, mu: float, indenters, *, p_init=None, rtol: float 
             buf[:] = 0.0
             buf[idx] = r[:ni]
             z = np.empty_like(r)
-            z[:ni] = fft.apply(buf, Hinv)[idx]
+            z[:ni] = op.apply_symbol(buf.reshape(shape), Hinv).ravel()[idx]
             z[ni:] = r[ni:]
             return z
 
@@ -190,7 +172,7 @@ def solve_contact(grid: Grid, mu: float, indenters, *, p_init=None, rtol: float 
     pmax = max(p.max(), 1e-300)
     load_res = 0.0
     for m in np.flatnonzero(loaded):
-        load_res = max(load_res, abs(dx * p[owner == m].sum() - loads[m]) / loads[m])
+        load_res = max(load_res, abs(cell * p[owner == m].sum() - loads[m]) / loads[m])
     residuals = {
         "gap": float(np.max(np.abs(gap[active])) / scale_w) if active.any() else 0.0,
         "penetration": float(max(0.0, -gap[~active & can_touch].min(initial=0.0)) / scale_w),
@@ -205,5 +187,34 @@ def solve_contact(grid: Grid, mu: float, indenters, *, p_init=None, rtol: float 
             f"({', '.join(f'{k} {v:.1e}' for k, v in residuals.items())}) after {outer} "
             f"active-set and {krylov_total} GMRES iterations",
             residuals=[h[1] for h in history], iterations=outer)
-    return ContactSolution(grid, p, w, gap, active, owner, d, outer, krylov_total,
+    return ContactSolution(grid or op.grid, p.reshape(shape), w.reshape(shape), gap.reshape(shape),
+                           active.reshape(shape), owner.reshape(shape), d, outer, krylov_total,
                            counter["fft"], residual, residuals, history)
+
+
+def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None, p_init=None,
+                  rtol: float = 1e-10, accept: float | None = None, max_outer: int = 200,
+                  max_krylov: int = 2000) -> ContactSolution:
+    """Solve the contact on ``grid`` for friction ``mu`` (sliding toward +x) and the given
+    indenters (``physics.indenters``: each gives its height, a first pressure guess and its
+    load), on ``film`` (default: the incompressible film of thickness 1, the core's unit).
+
+    p_init : optional initial pressure on the grid (its support is the first active set);
+             by default each loaded indenter's own guess (the half-space solution).
+    Other options as ``solve_complementarity``.
+    """
+    film = film or Film()
+    op = compliance_operator(grid.shape, grid.lengths, float(mu), film)
+    dist = np.stack([np.broadcast_to(ind.distance(grid), grid.shape) for ind in indenters])
+    owner = np.argmin(dist, axis=0)  # nearest apex (periodically); ties to the first
+    f = np.zeros(grid.shape)
+    guess = np.zeros(grid.shape) if p_init is None else None
+    for m, ind in enumerate(indenters):
+        mine = owner == m
+        f = np.where(mine, ind.height(grid), f)
+        if guess is not None and ind.load > 0:
+            guess = np.where(mine, ind.initial_pressure(grid), guess)
+    return solve_complementarity(op, f, owner, [ind.load for ind in indenters],
+                                 p_init=guess if p_init is None else p_init, rtol=rtol,
+                                 accept=accept, max_outer=max_outer, max_krylov=max_krylov,
+                                 grid=grid)

@@ -164,3 +164,52 @@ class Grid:
             ni = np.where(zero, 1.0 if i == 0 else 0.0, ni)
             out.append(ni)
         return tuple(out)
+
+    @cached_property
+    def nyquist_mask(self):
+        """Where the half spectrum holds a Nyquist plane k_i = -pi/dx_i of a full-spectrum axis
+        (every axis but the last, even length), or None (1D, odd lengths).  Such a mode is also
+        k_i = +pi/dx_i, with no stored partner: a symbol odd in n_i must be averaged over the two
+        aliases there (``alias_direction``), or its result breaks the x -> -x mirror symmetry
+        (physics3d.md).  In 1D the real transform already drops the odd part at Nyquist."""
+        mask = np.zeros(self.kshape, dtype=bool)
+        for i, n in enumerate(self.shape[:-1]):
+            if n % 2 == 0:
+                index = [slice(None)] * self.ndim
+                index[i] = n // 2
+                mask[tuple(index)] = True
+        return mask if mask.any() else None
+
+    @cached_property
+    def alias_direction(self) -> tuple | None:
+        """``direction`` with n_i negated on the Nyquist planes of full-spectrum axes (see
+        ``nyquist_mask``), or None where there are none."""
+        if self.nyquist_mask is None:
+            return None
+        out = []
+        for i, ni in enumerate(self.direction):
+            n = self.shape[i]
+            if i < self.ndim - 1 and n % 2 == 0:
+                ni = ni.copy()
+                index = [slice(None)] * self.ndim
+                index[i] = n // 2
+                ni[tuple(index)] *= -1.0
+            out.append(ni)
+        return tuple(out)
+
+    def alias_average(self, evaluate):
+        """``evaluate(direction)`` on the half spectrum, averaged with ``evaluate(alias)`` on
+        the Nyquist planes (identical to ``evaluate(direction)`` where there are none)."""
+        s = evaluate(self.direction)
+        if self.nyquist_mask is None:
+            return s
+        t = evaluate(self.alias_direction)
+        if isinstance(s, tuple):
+            return tuple(_masked_mean(a, b, self.nyquist_mask) for a, b in zip(s, t))
+        return _masked_mean(s, t, self.nyquist_mask)
+
+
+def _masked_mean(a, b, mask):
+    if isinstance(a, tuple):
+        return tuple(_masked_mean(x, y, mask) for x, y in zip(a, b))
+    return np.where(mask, 0.5 * (a + b), a)

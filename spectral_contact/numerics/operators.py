@@ -40,7 +40,7 @@ class FourierOperator:
         self._preconditioners: dict[float, np.ndarray] = {}
 
     def _evaluate(self, kmag: np.ndarray) -> np.ndarray:
-        s = np.asarray(self.symbol_function(self.grid.direction, kmag))
+        s = np.asarray(self.grid.alias_average(lambda n: self.symbol_function(n, kmag)))
         return s + self.constant if self.constant else s
 
     @property
@@ -54,6 +54,10 @@ class FourierOperator:
     def apply(self, field: np.ndarray) -> np.ndarray:
         """The operator applied to a real field of shape ``grid.shape`` (one FFT pair)."""
         return get_rfft(self.grid.shape).apply(field, self.symbol)
+
+    def apply_symbol(self, field: np.ndarray, symbol: np.ndarray) -> np.ndarray:
+        """Another symbol on the same grid (e.g. ``preconditioner(k_c)``) applied to ``field``."""
+        return get_rfft(self.grid.shape).apply(field, symbol)
 
     def preconditioner(self, k_cut: float) -> np.ndarray:
         """Symbol of the approximate inverse: 1/S(k) for |k| >= k_cut, 1/S(k_cut n) below

@@ -30,13 +30,14 @@ At k = 0: sigma_zz^(0) = sigma_zz^(h), tau^(0) = tau^(h) (the base carries the l
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from .transfer import transfer_functions
+from .transfer import F2, tanh_over, transfer_functions
 
-__all__ = ["Film", "DECAY_RATE", "surface_compliance", "base_stress_symbols", "base_stresses"]
+__all__ = ["Film", "DECAY_RATE", "surface_compliance", "base_stresses"]
 
 DECAY_RATE = 0.7390851332151607
 """Slowest exponential decay rate (in 1/h) of the film's kernels in x: the pole of 1/D(k) at
@@ -71,6 +72,11 @@ class Film:
         """Slowest decay rate of the film's kernels in real space [1/length]."""
         return DECAY_RATE / self.thickness
 
+    def domain_margin(self, tol: float) -> float:
+        """Length [same unit as h] beyond the contact over which the kernels decay to
+        ~tol/100 (times an amplitude of order 1): the guard a periodic grid needs."""
+        return math.log(100.0 / tol) / self.decay_rate
+
     def surface_compliance(self, direction, kmag, mu: float = 0.0, slide=(1.0, 0.0)):
         """H(k) = [F0 + i mu (e . n) F1] / (2|k|) (0 at k = 0), e = ``slide`` (unit vector,
         the sliding direction: the friction drags the surface along +e for mu > 0)."""
@@ -104,13 +110,51 @@ class Film:
         T = _sech(K)
         return szz0, tuple(n * tau_L0 + T * (t - n * tau_L) for n, t in zip(direction, tau_hat))
 
+    def surface_displacement_transfer(self, direction, kmag, p_hat, tau_hat):
+        """Surface displacement spectra from surface-traction spectra (physics3d.md):
+
+            delta^ = [F0 p^ + i F1 tau_L] / (2|k|)          (sinking, = -u_z)
+            u_L^   = [F2 tau_L - i F1 p^] / (2|k|)
+            u_T^   = tanh(K) tau_T / |k|
+
+        p_hat : pressure spectrum (p = -sigma_zz(h) >= 0 in compression); tau_hat : tuple of
+        the surface shear spectra (sigma_xz, [sigma_yz]).  Returns (tuple of u_x^, [u_y^],
+        delta^).  At k = 0: delta^ = 0 (incompressible) and u^ = h tau^ (uniform shear of
+        the bonded layer).  Units as ``surface_compliance`` (in the core: h^2/2R per G h/2R)."""
+        kmag = np.asarray(kmag, dtype=float)
+        h = self.thickness
+        K = kmag * h
+        F0, F1, *_ = transfer_functions(K)
+        pos = kmag > 0
+        inv2k = np.where(pos, 0.5 / np.where(pos, kmag, 1.0), 0.0)
+        tau_L = sum(n * t for n, t in zip(direction, tau_hat))
+        delta = (F0 * p_hat + 1j * F1 * tau_L) * inv2k
+        # F2 / (2|k|) -> h and tanh(K)/|k| -> h as k -> 0
+        cL = np.where(pos, F2(K) * inv2k, h)
+        u_L = cL * tau_L - 1j * F1 * inv2k * p_hat
+        cT = h * tanh_over(K)
+        u = tuple(n * u_L + cT * (t - n * tau_L) for n, t in zip(direction, tau_hat))
+        return u, delta
+
+    def surface_displacements(self, fft, grid, pressure, tau_surface):
+        """Surface displacements on ``grid`` (real fields) from the pressure p and the surface
+        shear components: returns (tuple of u_x, [u_y], delta = -u_z)."""
+        p_hat = fft.forward(pressure)
+        tau_hat = tuple(fft.forward(t) for t in tau_surface)
+        u, delta = grid.alias_average(
+            lambda n: self.surface_displacement_transfer(n, grid.kmag, p_hat, tau_hat))
+        return tuple(fft.backward(c) for c in u), fft.backward(delta)
+
     def base_stresses(self, fft, grid, szz_surface, tau_surface):
         """Base tractions on ``grid`` (real fields) from surface tractions (real fields on the
-        same grid): sigma_zz(x, h) and the tuple of shear components at z = h.  ``fft`` is the
+        same grid): sigma_zz(x, h) and the tuple of shear components at z = h (terms odd in k
+        averaged over the two aliases of Nyquist planes: ``Grid.alias_average``).  ``fft`` is the
         grid's planned transform (numerics.fft.get_rfft(grid.shape)).
         Returns (sigma_zz(x, 0), tuple of base shear fields)."""
-        szz0, tau0 = self.base_transfer(grid.direction, grid.kmag, fft.forward(szz_surface),
-                                        tuple(fft.forward(t) for t in tau_surface))
+        szz_hat = fft.forward(szz_surface)
+        tau_hat = tuple(fft.forward(t) for t in tau_surface)
+        szz0, tau0 = grid.alias_average(
+            lambda n: self.base_transfer(n, grid.kmag, szz_hat, tau_hat))
         return fft.backward(szz0), tuple(fft.backward(t) for t in tau0)
 
 
@@ -122,13 +166,6 @@ _E_X = (1.0,)
 def surface_compliance(k: np.ndarray, mu: float) -> np.ndarray:
     """H(k) on k >= 0 in 1D (dimensionless: displacement h^2/2R per stress E h/6R per 1/h)."""
     return _FILM.surface_compliance(_E_X, np.asarray(k, dtype=float), mu, _E_X)
-
-
-def base_stress_symbols(k: np.ndarray):
-    """(A, iB, C) on k >= 0 in 1D: sigma_zz^(0) = A szz^(1) + iB sxz^(1),
-    sigma_xz^(0) = C sxz^(1) + iB szz^(1)."""
-    _, _, A, B, C = transfer_functions(np.asarray(k, dtype=float))
-    return A, 1j * B, C
 
 
 def base_stresses(fft, k, sigma_zz_surface, sigma_xz_surface):

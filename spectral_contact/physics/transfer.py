@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["transfer_functions", "F0", "F1", "A", "B", "C", "F0_minus_1"]
+__all__ = ["transfer_functions", "F0", "F0_minus_1", "F2", "tanh_over"]
 
 _SERIES_MAX = 1.0  # |2k| below which sinh(2k) - 2k is summed as a series
 
@@ -75,24 +75,22 @@ def F0(k):
     return _F0_scaled_numerator(k, e2) / Dp
 
 
-def F1(k):
-    k, e2, Dp = _scaled(k)
-    return 4.0 * k * k * e2 / Dp
-
-
-def A(k):
-    return transfer_functions(k)[2]
-
-
-def B(k):
-    return transfer_functions(k)[3]
-
-
-def C(k):
-    return transfer_functions(k)[4]
-
-
 def F0_minus_1(k):
     """F0(k) - 1 without cancellation at large k (decays like -2(1 + 2k + 2k^2) exp(-2k))."""
     k, e2, Dp = _scaled(k)
     return -2.0 * e2 * (e2 + 1.0 + 2.0 * k + 2.0 * k * k) / Dp
+
+
+def F2(k):
+    """F2 = (sinh 2k + 2k) / D: the tangential-tangential surface compliance of the sagittal
+    problem (physics3d.md): -> 1 as k -> inf, ~ 2k as k -> 0."""
+    k, e2, Dp = _scaled(k)
+    return (1.0 - e2 * e2 + 4.0 * k * e2) / Dp
+
+
+def tanh_over(k):
+    """tanh(k) / k, with its limit 1 at k = 0 (the anti-plane compliance times 1/h)."""
+    k = np.abs(np.asarray(k, dtype=float))
+    e2 = np.exp(-2.0 * k)
+    safe = np.where(k > 0, k, 1.0)
+    return np.where(k > 1e-8, (1.0 - e2) / ((1.0 + e2) * safe), 1.0 - k * k / 3.0)

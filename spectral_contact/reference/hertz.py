@@ -9,7 +9,7 @@ E h/(6R), displacements in h^2/(2R); indenter profile x^2):
 whatever mu: an incompressible half-space under a rigid indenter has Dundurs beta = 0, so the
 friction q = mu p does not couple into the normal problem.  That pressure and its Amontons shear
 (sigma_zz(x, h) = -p, sigma_xz(x, h) = mu p) are then carried to the rigid base through the
-film's exact symbols A, B, C (``physics.film.base_stress_symbols``), using the closed-form
+film's exact transfer (``physics.film.Film.base_transfer``), using the closed-form
 spectrum of the Hertz pressure,
 
     p^(k) = 4 pi a J1(k a) / k      (p^(0) = 2 pi a^2 = P),
@@ -42,7 +42,7 @@ from scipy import special
 
 from ..numerics.fft import get_rfft
 from ..numerics.grid import Grid
-from ..physics.film import base_stress_symbols
+from ..physics.film import Film
 from ..physics.transfer import F0
 
 __all__ = ["hertz_half_width", "hertz_pressure", "hertz_pressure_spectrum", "hertz_base_stresses",
@@ -81,14 +81,11 @@ def hertz_base_stresses(grid: Grid, a: float, mu: float):
     spectra; the grid must keep k_Nyquist >~ 40 for full accuracy)."""
     k = grid.k
     ph = hertz_pressure_spectrum(k, a)
-    A, iB, C = base_stress_symbols(k)
-    szz_s, sxz_s = -ph, mu * ph                      # surface tractions' spectra
+    szz0, (sxz0,) = Film().base_transfer(grid.direction, k, -ph, (mu * ph,))
     # samples of the periodised field: f_j = (1/L) sum_m f^(k_m) exp(i k_m x_j), x_j = x0 + j dx
-    scale = (grid.n / grid.length) * np.exp(1j * k * grid.origin)
-    fft = get_rfft(grid.n)
-    szz = fft.backward(scale * (A * szz_s + iB * sxz_s))
-    sxz = fft.backward(scale * (C * sxz_s + iB * szz_s))
-    return szz, sxz
+    scale = (grid.n / grid.length) * np.exp(1j * k * grid.origin[0])
+    fft = get_rfft(grid.shape)
+    return fft.backward(scale * szz0), fft.backward(scale * sxz0)
 
 
 def _gauss_legendre_integral(f, lo: float, hi: float, panel: float, order: int = 24) -> float:

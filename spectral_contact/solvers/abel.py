@@ -324,8 +324,10 @@ class _Solved:
     residual: float
 
 
-def _solve_once(P, mu, n, a_guess):
+def _solve_once(P, mu, n, a_guess, tally: list | None = None):
     sol, it, res = _solve_load(P, mu, n, a_guess)
+    if tally is not None:
+        tally.append(it)
     x0, ia = sol.aposteriori()
     pm, xm = sol.peak()
     return _Solved(sol, x0, ia, pm, xm, it, res)
@@ -389,14 +391,7 @@ def solve_abel(scene: Scene, model: str = "exact", tol: float = 1e-4, n_nodes: i
     if model not in MODELS:
         raise InputError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
     tol = check_tol(tol)
-    if n_nodes is not None:
-        try:
-            n_int = int(n_nodes)
-        except (TypeError, ValueError):
-            raise InputError(f"n_nodes must be an integer in [6, 2000]; got {n_nodes!r}") from None
-        if n_int != n_nodes or not 6 <= n_int <= 2000:
-            raise InputError(f"n_nodes must be an integer in [6, 2000]; got {n_nodes!r}")
-        n_nodes = n_int
+    n_nodes = check_grid_points(n_nodes, 6, 2000, "Abel Nystrom nodes")
     if x is not None:
         x = np.asarray(x, dtype=float)
         if x.ndim != 1 or x.size == 0 or not np.all(np.isfinite(x)):
@@ -421,19 +416,20 @@ def solve_abel(scene: Scene, model: str = "exact", tol: float = 1e-4, n_nodes: i
     scout, scout_it, _ = _solve_load(P, mu_solve, lambda a: _default_nodes(a, 1e-6),
                                      _initial_half_width(P), rtol=1e-4)
     a_start = scout.a
+    root_iterations = [scout_it]  # every root-finding step is one Nystrom solve
     # --- tolerance loop ------------------------------------------------------------------------
     if n_nodes is not None:
         n = n_nodes
         n_small = _smaller(n)
-        fine = _solve_once(P, mu_solve, n, a_start)
-        coarse = _solve_once(P, mu_solve, n_small, fine.sol.a)
+        fine = _solve_once(P, mu_solve, n, a_start, root_iterations)
+        coarse = _solve_once(P, mu_solve, n_small, fine.sol.a, root_iterations)
         err = _change(fine, coarse)
     else:
         n = _default_nodes(a_start, tol)
         n_small = _smaller(n)
-        coarse = _solve_once(P, mu_solve, n_small, a_start)
+        coarse = _solve_once(P, mu_solve, n_small, a_start, root_iterations)
         while True:
-            fine = _solve_once(P, mu_solve, n, coarse.sol.a)
+            fine = _solve_once(P, mu_solve, n, coarse.sol.a, root_iterations)
             err = _change(fine, coarse)
             if err <= tol or n >= N_MAX:
                 break
@@ -489,7 +485,9 @@ def solve_abel(scene: Scene, model: str = "exact", tol: float = 1e-4, n_nodes: i
         max_pressure=fine.pmax, max_pressure_x=float(fine.xmax - x0), grid_points=int(n),
         domain_length=float(xx[-1] - xx[0]) if xx.size > 1 else 0.0,
         iterations=int(fine.iterations), residual=float(fine.residual), error_estimate=float(err),
-        wall_time_s=time.perf_counter() - t_start, info=info)
+        wall_time_s=time.perf_counter() - t_start, info=info,
+        counters={"transforms": 0, "iterations": int(sum(root_iterations)),
+                  "linear_iterations": int(sum(root_iterations))})
 
 
 @register

@@ -17,10 +17,10 @@ from abc import ABC, abstractmethod
 
 from ..errors import InputError
 from ..physics.scene import Scene, check_tol
+from ..result import COUNTER_KEYS
 
 __all__ = ["Method", "METHODS", "register", "check_grid_points", "COUNTER_KEYS"]
 
-COUNTER_KEYS = ("transforms", "iterations", "linear_iterations")
 METHODS: dict[str, type[Method]] = {}
 
 

@@ -24,14 +24,16 @@ import time
 import numpy as np
 
 from ..errors import ConvergenceError, InputError
-from ..numerics.contact import Indenter, solve_contact
+from ..numerics.contact import solve_contact
 from ..numerics.edges import fit_edges, peak
 from ..numerics.fft import get_rfft, plan_cache_info
-from ..numerics.grid import Grid
-from ..physics.film import DECAY_RATE, base_stresses
-from ..physics.scene import Scene
+from ..numerics.grid import Grid, pow2_at_least
+from ..physics.film import Film
+from ..physics.indenters import Cylinder
+from ..physics.scene import Scene, Scene3D, check_positive
 from ..result import ContactResult
 from .base import Method, check_grid_points, register
+from .fft3d import solve_fft3d
 
 __all__ = ["solve_fft", "FFTMethod", "MIN_POINTS", "MAX_POINTS"]
 
@@ -41,10 +43,6 @@ _FIRST_ACROSS = 32  # grid points across the contact on the first adaptive level
 _EDGE_ERROR = 0.01  # first level: _EDGE_ERROR / tol points across the contact (the averaged
 #                     edge error has rms ~0.007 dx, max ~0.02 dx: studies/stability)
 _SHIFT_RESIDUAL = 0.25  # averaged phase error <= this fraction of the shift difference (measured)
-
-
-def _pow2_at_least(n: float) -> int:
-    return max(MIN_POINTS, 1 << max(0, math.ceil(math.log2(max(n, 1.0)))))
 
 
 def _contact_window(sol):
@@ -107,11 +105,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     plans0 = _plans_time()
     P = scene.P
     mu_contact = scene.mu if model == "exact" else 0.0
-    if grid_points is not None and grid_points < MIN_POINTS:
-        raise InputError(f"grid_points must be >= {MIN_POINTS}; got {grid_points}")
-    if domain_length is not None and not domain_length > 0:
-        raise InputError(f"domain_length must be > 0; got {domain_length}")
-    margin = math.log(100.0 / tol) / DECAY_RATE  # images ~ tol/100 x O(1)
+    margin = Film().domain_margin(tol)  # images ~ tol/100 x O(1)
     # residual (relative displacement / pressure / load) accepted from each contact solve:
     # far below tol, but not below what round-off allows for very wide contacts
     accept = max(1e-8, 1e-2 * tol)
@@ -124,9 +118,10 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
                              0.0, g.n, L, 0, 0.0, 0.0, time.perf_counter() - t0, 0.0,
                              {"fft_pairs": 0})
 
-    indenter = [Indenter(0.0, P)]
+    indenter = [Cylinder(0.0, P)]
     fft_pairs = 0
     krylov = 0
+    outer = 0
     levels = []
 
     # 1. locate the contact on a coarse, generous grid.  Both the Hertz half-space width
@@ -134,7 +129,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     #    half-width from above (studies/stability); the smaller one sizes the first grid.
     a_bound = min(math.sqrt(P / (2 * math.pi)), (3.75 * P) ** 0.2)
     L0 = domain_length or (4.0 * a_bound + margin)
-    n0 = grid_points // 4 if grid_points else _pow2_at_least(L0 / (2 * a_bound / _FIRST_ACROSS))
+    n0 = grid_points // 4 if grid_points else pow2_at_least(L0 / (2 * a_bound / _FIRST_ACROSS), MIN_POINTS)
     n0 = max(MIN_POINTS, n0)
     if n0 > MAX_POINTS:  # say so before allocating anything
         raise InputError(
@@ -143,6 +138,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     sol = solve_contact(Grid.centered(n0, L0), mu_contact, indenter, accept=accept)
     fft_pairs += sol.fft_pairs
     krylov += sol.krylov_iterations
+    outer += sol.iterations
     q = _measure(sol)
 
     # 2. the period: contact plus the decay margin, centred on the contact
@@ -153,7 +149,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         sizes = [grid_points // 2, grid_points]
     else:
         across = max(_FIRST_ACROSS, _EDGE_ERROR / tol)
-        n1 = _pow2_at_least(L / (2 * q["a"] / across))
+        n1 = pow2_at_least(L / (2 * q["a"] / across), MIN_POINTS)
         if n1 > MAX_POINTS:  # say so before allocating anything
             raise InputError(
                 f"tol {tol:g} needs ~{n1:.1e} grid points for a contact of half-width {q['a']:.2g} h "
@@ -179,6 +175,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         for s_ in (cur, shifted):
             fft_pairs += s_.fft_pairs
             krylov += s_.krylov_iterations
+            outer += s_.iterations
         residual = max(cur.residual, shifted.residual)
         q0, q1 = _measure(cur), _measure(shifted)
         qcur = _average(q0, q1)
@@ -202,9 +199,8 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
             iterations=len(levels))
 
     sol, q = cur, qcur
-    fft = get_rfft(sol.grid.n)
     p = sol.pressure
-    szz, sxz = base_stresses(fft, sol.grid.k, -p, scene.mu * p)
+    szz, (sxz,) = Film().base_stresses(get_rfft(sol.grid.shape), sol.grid, -p, (scene.mu * p,))
     fft_pairs += 2
     total = time.perf_counter() - t0
     plan_time = _plans_time() - plans0
@@ -224,7 +220,8 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         indentation=q["d"], max_pressure=q["pmax"], max_pressure_x=q["xmax"],
         grid_points=sol.grid.n, domain_length=sol.grid.length, iterations=sol.iterations,
         residual=residual, error_estimate=est, wall_time_s=total - plan_time,
-        plan_time_s=plan_time, info=info)
+        plan_time_s=plan_time, info=info,
+        counters={"transforms": fft_pairs, "iterations": outer, "linear_iterations": krylov})
 
 
 @register
@@ -238,10 +235,21 @@ class FFTMethod(Method):
 
     def __init__(self, tol: float = 1e-4, grid_points=None, domain_length=None):
         super().__init__(tol)
-        self.grid_points = check_grid_points(grid_points, MIN_POINTS, 2**24, "fft grid points", even=True)
-        if domain_length is not None and not (math.isfinite(domain_length) and domain_length > 0):
-            raise InputError(f"domain_length must be > 0; got {domain_length}")
+        self.surface_options = (grid_points, domain_length)  # 3D: checked by solve_fft3d
+        if np.ndim(grid_points) == 0:
+            grid_points = check_grid_points(grid_points, MIN_POINTS, 2**24, "fft grid points",
+                                            even=True)
+        if domain_length is not None and np.ndim(domain_length) == 0:
+            domain_length = check_positive("domain_length", domain_length, "h")
+        self.grid_points = grid_points
         self.domain_length = domain_length
 
-    def solve(self, scene: Scene, model: str) -> ContactResult:
-        return solve_fft(scene, self.check_model(model), self.tol, self.grid_points, self.domain_length)
+    def solve(self, scene, model: str, progress=None):
+        """A ContactResult for a plane-strain ``Scene``; a ContactResult3D for a ``Scene3D``."""
+        model = self.check_model(model)
+        if isinstance(scene, Scene3D):
+            return solve_fft3d(scene, model, self.tol, *self.surface_options, progress=progress)
+        if np.ndim(self.grid_points) or np.ndim(self.domain_length):
+            raise InputError("grid_points and domain_length are single numbers for a line "
+                             "indenter (pairs [nx, ny], [Lx, Ly] are for 3D indenters)")
+        return solve_fft(scene, model, self.tol, self.grid_points, self.domain_length)
