@@ -26,9 +26,13 @@ the workers do (OpenBLAS splits long dot products between threads, from 10^4 poi
 Table (one row per scene, in the order of the Cartesian product, the first option varying
 slowest): ``key``, the options (``OPTIONS``, defaults filled in), ``status`` ("ok",
 "input_error", "not_converged", "crashed"), ``message`` (the error's first line, "" when ok),
-then every JSON key of ``solve``'s summary (``result.JSON_KEYS`` and ``auto_reason``); those whose
-name is also an option's ("model", "method", "mu") are prefixed ``solved_`` (with model="auto",
-``solved_model`` is the model chosen).  A failed scene has empty summary columns.
+then every JSON key of ``solve``'s summaries (``result.JSON_KEYS``, then the 3D ones of
+``result.JSON_KEYS_3D``, ``length_m``, ``radius_x_m``, ``radius_y_m``, ``auto_reason``); those whose
+name is also an option's ("model", "method", "mu", "grid_points", "indenter") are prefixed
+``solved_`` (with model="auto", ``solved_model`` is the model chosen).  A failed scene has empty
+summary columns, a line's row empty 3D columns and the reverse (3D ``grid_points`` and
+``domain_length_m`` are [x, y] lists; text in Parquet).  Defaults per indenter: a line's load
+200 N/m and tol 1e-4; a 3D indenter's force 1 N, tol left to ``solve`` (empty column).
 
 Store (``out`` given): every finished scene is written at once to ``out/scenes/<key>.json``
 (temporary file then rename), ``key`` a hash of the sorted parameters and the package version; a
@@ -36,7 +40,8 @@ rerun reuses every stored scene and solves only the missing ones, so Ctrl-C lose
 scenes in flight.  "crashed" scenes (an unexpected exception, a dead worker) are not stored: a
 rerun retries them.  At the end: ``out/summary.csv`` (one header row: ``pandas.read_csv`` opens
 it), ``out/summary.parquet`` if pyarrow is installed, and with ``profiles=True`` the profiles of
-each solved scene in ``out/profiles/<key>.csv`` (``result.PROFILE_COLUMNS``).
+each solved scene in ``out/profiles/<key>.csv`` (``result.PROFILE_COLUMNS``; 3D: the y = 0 line)
+and, for 3D scenes, their maps in ``out/profiles/<key>.npz`` (``result.MAP_KEYS``).
 
 Needs the optional extra ``pip install 'spectral_contact[sweep]'`` (pandas; dask.distributed for
 the local and external engines).
@@ -53,6 +58,8 @@ import tempfile
 import time
 from pathlib import Path
 
+import numpy as np
+
 from .errors import ConvergenceError, InputError
 from .physics.scene import PAPER_SCENE
 
@@ -65,20 +72,39 @@ STATUSES = ("ok", "input_error", "not_converged", "crashed")
 TIMING_COLUMNS = ("wall_time_s", "plan_time_s")
 EXTRA = "pip install 'spectral_contact[sweep]'"
 
-# name -> (type, default, unit or choices, help); the order is the column order
+# name -> (type, default, unit or choices, help); the order is the column order.  A default of
+# None is filled per indenter by ``scenes`` (``_fill``) or left to ``solve``.
 OPTIONS = {
-    "load": (float, PAPER_SCENE.load, "N/m", "P_L, lineic load"),
+    "indenter": (str, "line", ("line", "sphere", "cylinder", "paraboloid"),
+                 "line (plane strain, --load) or a 3D indenter (--force)"),
+    "load": (float, None, "N/m", f"P_L, lineic load, line only (default {PAPER_SCENE.load:g})"),
+    "force": (float, None, "N", "F, normal force, 3D indenters only (default 1)"),
     "mu": (float, PAPER_SCENE.mu, "", "mu_d, friction coefficient (signed)"),
     "young": (float, PAPER_SCENE.young, "Pa", "E, Young's modulus"),
-    "radius": (float, PAPER_SCENE.radius, "m", "R, cylinder radius"),
+    "radius": (float, PAPER_SCENE.radius, "m", "R, cylinder/sphere radius"),
     "thickness": (float, PAPER_SCENE.thickness, "m", "h, film thickness"),
+    "length": (float, None, "m", "3D cylinder length along y (solve's default 0.008)"),
+    "radius_x": (float, None, "m", "paraboloid radius along x (default --radius)"),
+    "radius_y": (float, None, "m", "paraboloid radius along y (default --radius)"),
     "model": (str, "exact", ("exact", "goodman", "hertz", "auto"), "model"),
     "method": (str, "fft", ("fft", "abel"), "method"),
-    "tol": (float, 1e-4, "", "relative accuracy target, in (0, 0.1)"),
-    "grid_points": (int, None, "", "fixed N (grid points or Abel nodes)"),
-    "domain_length": (float, None, "m", "fixed FFT period L"),
+    "tol": (float, None, "", "relative accuracy target in (0, 0.1) (line: 1e-4; 3D: solve's "
+                             "default, 1e-3, cylinder 1e-2)"),
+    "grid_points": (int, None, "", "fixed N (grid points per axis, or Abel nodes)"),
+    "domain_length": (float, None, "m", "fixed FFT period L (per axis in 3D)"),
 }
-_SCENE_KEYS = ("load", "mu", "young", "radius", "thickness")
+_SCENE_KEYS = ("indenter", "load", "force", "mu", "young", "radius", "thickness", "length",
+               "radius_x", "radius_y")
+_LINE_DEFAULTS = {"load": PAPER_SCENE.load, "tol": 1e-4}
+_3D_DEFAULTS = {"force": 1.0}
+
+
+def _fill(p: dict) -> dict:
+    """Defaults that depend on the indenter (a line's load and tol, a 3D indenter's force)."""
+    for k, v in (_LINE_DEFAULTS if p["indenter"] == "line" else _3D_DEFAULTS).items():
+        if p[k] is None:
+            p[k] = v
+    return p
 
 
 # --- specifications -----------------------------------------------------------------------------
@@ -192,7 +218,7 @@ def scenes(options: dict) -> list[dict]:
     for combo in itertools.product(*(given[n] for n in names)):
         p = {k: OPTIONS[k][1] for k in OPTIONS}
         p.update(zip(names, combo))
-        rows.append({k: p[k] for k in OPTIONS})
+        rows.append(_fill({k: p[k] for k in OPTIONS}))
     return rows
 
 
@@ -209,10 +235,17 @@ def scene_key(params: dict, version: str | None = None) -> str:
 
 
 # --- one scene ----------------------------------------------------------------------------------
-def _summary_names():
-    from .result import JSON_KEYS
+def _summary_keys():
+    """Every JSON key of ``solve``'s summaries, line then 3D, in order."""
+    from .result import JSON_KEYS, JSON_KEYS_3D
 
-    return [f"solved_{k}" if k in OPTIONS else k for k in (*JSON_KEYS, "auto_reason")]
+    keys = list(JSON_KEYS)
+    keys += [k for k in JSON_KEYS_3D if k not in keys]
+    return keys + ["length_m", "radius_x_m", "radius_y_m", "auto_reason"]
+
+
+def _summary_names():
+    return [f"solved_{k}" if k in OPTIONS else k for k in _summary_keys()]
 
 
 def table_columns() -> list[str]:
@@ -223,22 +256,22 @@ def table_columns() -> list[str]:
 def _solve(params: dict):
     from .api import solve
 
+    scene = {k: params[k] for k in _SCENE_KEYS if params[k] is not None}
     return solve(model=params["model"], method=params["method"], tol=params["tol"],
-                 grid_points=params["grid_points"], domain_length=params["domain_length"],
-                 **{k: params[k] for k in _SCENE_KEYS})
+                 grid_points=params["grid_points"], domain_length=params["domain_length"], **scene)
 
 
 def _task(params: dict, profiles: bool = False):
     """Solve one scene: (row, profiles or None).  Pure: no file, no global state but the
     per-thread FFT plans; every failure becomes a status."""
-    from .result import JSON_KEYS
-
     status, message, summary, prof = "ok", "", {}, None
     try:
         r = _solve(params)
         summary = r.summary()
         if profiles:
-            prof = {k: v.tolist() for k, v in r.profiles().items()}
+            prof = {k: np.asarray(v).tolist() for k, v in r.profiles().items()}
+            if hasattr(r, "maps"):  # 3D: the maps too (written as NPZ)
+                prof = {"profiles": prof, "maps": {k: np.asarray(v) for k, v in r.maps().items()}}
     except InputError as exc:
         status, message = "input_error", str(exc)
     except ConvergenceError as exc:
@@ -247,7 +280,7 @@ def _task(params: dict, profiles: bool = False):
         status, message = "crashed", f"{type(exc).__name__}: {exc}"
     message = (message.splitlines() or [""])[0]
     row = {"key": scene_key(params), **params, "status": status, "message": message}
-    for k, name in zip((*JSON_KEYS, "auto_reason"), _summary_names()):
+    for k, name in zip(_summary_keys(), _summary_names()):
         row[name] = summary.get(k)
     return row, prof
 
@@ -260,7 +293,7 @@ def solve_row(params: dict) -> dict:
     if unknown:
         raise InputError(f"unknown option {unknown[0]!r} (accepted: {', '.join(OPTIONS)})")
     p.update(params)
-    return _task(p)[0]
+    return _task(_fill(p))[0]
 
 
 # --- store --------------------------------------------------------------------------------------
@@ -310,18 +343,42 @@ class _Store:
         if (not isinstance(rec, dict) or rec.get("version") != _version()
                 or rec.get("params") != params or not isinstance(rec.get("row"), dict)):
             return None
-        if self.profiles and rec["row"].get("status") == "ok" and not (self.prof / f"{key}.csv").is_file():
+        if self.profiles and rec["row"].get("status") == "ok" and not all(
+                (self.prof / f"{key}{ext}").is_file() for ext in self._kinds(params)):
             return None  # stored by a run without profiles: solve again for them
         return rec["row"]
+
+    @staticmethod
+    def _kinds(params):
+        return (".csv",) if params.get("indenter", "line") == "line" else (".csv", ".npz")
 
     def save(self, row: dict, params: dict, prof) -> None:
         if self.out is None or row["status"] == "crashed":
             return
         key = row["key"]
         if prof is not None:
+            maps = None
+            if "maps" in prof:
+                prof, maps = prof["profiles"], prof["maps"]
             _atomic_write(self.prof / f"{key}.csv", lambda fh: _write_profiles(fh, prof))
+            if maps is not None:
+                _atomic_npz(self.prof / f"{key}.npz", maps)
         rec = {"key": key, "version": _version(), "params": params, "row": row}
         _atomic_write(self.scenes / f"{key}.json", lambda fh: json.dump(rec, fh, indent=1))
+
+
+def _atomic_npz(path: Path, arrays: dict) -> None:
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name + ".", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            np.savez_compressed(fh, **arrays)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
 
 
 def _write_profiles(fh, prof: dict) -> None:
@@ -632,8 +689,9 @@ def sweep(spec=None, *, out=None, engine: str = "local", workers: int | None = N
         Filled with counts: scenes, reused, solved, statuses, engine, dask_tasks (scenes are
         batched into tasks of ~TASK_SECONDS), elapsed_s.
     **options
-        load, mu, young, radius, thickness, model, method, tol, grid_points, domain_length: a
-        value, a list, or a string of comma lists / start:stop:step ranges (SI).
+        ``OPTIONS``: indenter, load, force, mu, young, radius, thickness, length, radius_x,
+        radius_y, model, method, tol, grid_points, domain_length: a value, a list, or a string of
+        comma lists / start:stop:step ranges (SI).
 
     Returns
     -------
@@ -805,6 +863,12 @@ def _write_tables(df, out: Path) -> None:
         import pyarrow  # noqa: F401
     except ModuleNotFoundError:
         return
+    df = df.copy()
+    for c in df.columns:  # a column of mixed kinds (2D int and 3D [nx, ny]) as text for Arrow
+        if df[c].dtype == object:
+            kinds = {type(v) for v in df[c] if v is not None}
+            if len(kinds) > 1 or list in kinds:
+                df[c] = [None if v is None else str(v) for v in df[c]]
     path = out / "summary.parquet"
     fd, tmp = tempfile.mkstemp(dir=out, prefix="summary.parquet.", suffix=".tmp")
     os.close(fd)

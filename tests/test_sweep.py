@@ -15,7 +15,7 @@ from spectral_contact import solve  # noqa: E402
 from spectral_contact import sweep as sweep_module  # noqa: E402
 from spectral_contact.cli.main import main  # noqa: E402
 from spectral_contact.errors import ConvergenceError, InputError  # noqa: E402
-from spectral_contact.result import JSON_KEYS, PROFILE_COLUMNS  # noqa: E402
+from spectral_contact.result import JSON_KEYS, JSON_KEYS_3D, MAP_KEYS, PROFILE_COLUMNS  # noqa: E402
 from spectral_contact.sweep import TIMING_COLUMNS, parse_values, scene_key, sweep  # noqa: E402
 
 # 12 scenes: 3 loads x 2 friction coefficients x 2 models
@@ -91,7 +91,9 @@ def test_serial_table(serial):
     df, out, info = serial
     assert len(df) == 12 and set(df["status"]) == {"ok"} and info["solved"] == 12
     summary = [f"solved_{k}" if k in ("model", "method", "mu", "grid_points") else k for k in JSON_KEYS]
-    assert list(df.columns[-len(summary) - 1:]) == summary + ["auto_reason"]
+    cols = list(df.columns)
+    assert [cols.index(c) for c in summary] == sorted(cols.index(c) for c in summary)  # in order
+    assert set(JSON_KEYS_3D) <= {c.removeprefix("solved_") for c in cols}
     # a row is the solve of its scene
     row = df.iloc[5]
     r = solve(load=row["load"], mu=row["mu"], model=row["model"], tol=row["tol"]).summary()
@@ -420,3 +422,41 @@ def test_a_cluster_that_loses_its_workers_does_not_hang(tmp_path, monkeypatch):
     assert left["message"].str.startswith("NoWorkersError: the cluster has had no worker").all()
     assert len(list((tmp_path / "scenes").glob("*.json"))) == info["statuses"]["ok"]
 
+
+
+# --- 3D -----------------------------------------------------------------------------------------
+SPEC3D = {"indenter": "sphere", "force": "0.5,1", "mu": "0,1", "tol": 1e-2}
+
+
+def test_3d_sweep_serial_and_local_cluster_agree(tmp_path):
+    a = sweep(SPEC3D, out=tmp_path / "s", engine="serial", progress=False, profiles=True)
+    b = sweep(SPEC3D, out=tmp_path / "l", workers=2, progress=False, profiles=True)
+    assert len(a) == 4 and set(a["status"]) == {"ok"} and set(a["solved_indenter"]) == {"sphere"}
+    _same(a, b)
+    assert a["load"].isna().all() and a["contact_radius_m"].gt(0).all()
+    r = solve(indenter="sphere", force=1.0, mu=1.0, tol=1e-2).summary()
+    row = a[(a["force"] == 1.0) & (a["mu"] == 1.0)].iloc[0]
+    for k in ("contact_radius_m", "indentation_m", "max_pressure_Pa", "pressure_centroid_x_m"):
+        assert row[k] == r[k]
+    assert row["solved_grid_points"] == r["grid_points"]
+    for key in a["key"]:
+        for d in ("s", "l"):
+            assert (tmp_path / d / "profiles" / f"{key}.csv").is_file()
+        ms, ml = (np.load(tmp_path / d / "profiles" / f"{key}.npz") for d in ("s", "l"))
+        assert sorted(ms.files) == sorted(MAP_KEYS)
+        for k in MAP_KEYS:
+            assert np.array_equal(ms[k], ml[k])
+
+
+def test_line_and_3d_in_one_table(tmp_path):
+    df = sweep(indenter="line,sphere", mu="0,1", tol=1e-2, out=tmp_path, engine="serial",
+               progress=False)
+    line, sphere = df[df["indenter"] == "line"], df[df["indenter"] == "sphere"]
+    assert len(line) == len(sphere) == 2 and set(df["status"]) == {"ok"}
+    assert (line["load"] == 200.0).all() and line["force"].isna().all()  # defaults per indenter
+    assert (sphere["force"] == 1.0).all() and sphere["load"].isna().all()
+    assert line["contact_radius_m"].isna().all() and sphere["half_width_m"].isna().all()
+    assert len(pd.read_csv(tmp_path / "summary.csv")) == 4
+    # a parameter of the other kind is a row with its status, not the end of the sweep
+    bad = sweep(indenter="line,sphere", force=1.0, tol=1e-2, engine="serial", progress=False)
+    assert bad["status"].tolist() == ["input_error", "ok"] and "force" in bad["message"].iloc[0]
