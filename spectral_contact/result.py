@@ -17,13 +17,16 @@ __all__ = ["ContactResult", "JSON_KEYS", "PROFILE_COLUMNS"]
 JSON_KEYS = (
     "model", "method", "load_N_per_m", "mu", "young_Pa", "radius_m", "thickness_m",
     "half_width_m", "contact_center_m", "x0_m", "indentation_m", "max_pressure_Pa",
-    "max_pressure_x_m", "grid_points", "domain_length_m", "iterations", "residual",
-    "error_estimate", "wall_time_s", "plan_time_s",
+    "max_pressure_x_m", "contact_intervals_m", "grid_points", "domain_length_m", "iterations",
+    "residual", "error_estimate", "wall_time_s", "plan_time_s",
 )
 PROFILE_COLUMNS = ("x_m", "pressure_Pa", "surface_shear_Pa", "base_sigma_zz_Pa", "base_sigma_xz_Pa")
+_SCALARS = ("half_width", "center", "indentation", "max_pressure", "max_pressure_x", "grid_points",
+            "domain_length", "iterations", "residual", "error_estimate")
+_ARRAYS = ("x", "pressure", "base_sigma_zz", "base_sigma_xz")
 
 
-@dataclass
+@dataclass(repr=False, eq=False)
 class ContactResult:
     """Solution of one scene.
 
@@ -41,6 +44,12 @@ class ContactResult:
     Diagnostics: grid_points, domain_length (in h), iterations, residual (dimensionless,
     relative), error_estimate (relative, of a, x_c, d and the peak pressure), wall_time_s
     (solve only), plan_time_s (FFT planning), info (free-form dict: method details).
+
+    SI views: every key of the JSON record (``JSON_KEYS``) is an attribute of the same name
+    (``r.half_width_m``, ``r.x0_m``, ``r.max_pressure_Pa``, ``r.contact_intervals_m``, ...);
+    ``r.to_dict()`` is the record, ``r.profiles()`` the SI profiles named like the CSV columns
+    (``pandas.DataFrame(r.profiles())``), ``r.plot()`` a matplotlib Figure.  ``repr(r)`` is a
+    one-line SI summary; ``r == r2`` compares numbers and profiles (timings ignored).
     """
 
     scene: Scene
@@ -97,41 +106,133 @@ class ContactResult:
 
     @property
     def half_width_m(self) -> float:
-        return self.half_width * self.scene.length_unit
+        """a, contact half-width [m] (of the envelope when the contact splits)."""
+        return float(self.half_width * self.scene.length_unit)
 
     @property
     def contact_center_m(self) -> float:
-        return self.center * self.scene.length_unit
+        """x_c, contact centre relative to the apex [m] (> 0: toward the sliding direction)."""
+        return float(self.center * self.scene.length_unit) + 0.0
 
     @property
     def indentation_m(self) -> float:
-        return self.indentation * self.scene.displacement_unit
+        """d, indentation depth [m] (the paper's 1/alpha)."""
+        return float(self.indentation * self.scene.displacement_unit)
+
+    @property
+    def load_N_per_m(self) -> float:
+        """P_L, the lineic load [N/m]."""
+        return self.scene.load
+
+    @property
+    def mu(self) -> float:
+        """mu_d, the signed friction coefficient (> 0: sliding toward +x)."""
+        return self.scene.mu
+
+    @property
+    def young_Pa(self) -> float:
+        """E, the film's Young modulus [Pa]."""
+        return self.scene.young
+
+    @property
+    def radius_m(self) -> float:
+        """R, the cylinder's radius [m]."""
+        return self.scene.radius
+
+    @property
+    def thickness_m(self) -> float:
+        """h, the film's thickness [m]."""
+        return self.scene.thickness
+
+    @property
+    def x0_m(self) -> float:
+        """The paper's x0 [m]: apex relative to the contact centre (= -contact_center_m)."""
+        return float(-self.center * self.scene.length_unit) + 0.0  # + 0.0: no "-0.0"
+
+    @property
+    def max_pressure_Pa(self) -> float:
+        """Peak pressure [Pa]."""
+        return float(self.max_pressure * self.scene.stress_unit)
+
+    @property
+    def max_pressure_x_m(self) -> float:
+        """Where the pressure peaks [m], apex frame."""
+        return float(self.max_pressure_x * self.scene.length_unit)
+
+    @property
+    def domain_length_m(self) -> float:
+        """Length covered by the profiles [m]: the FFT period, or the Abel sampling window."""
+        return float(self.domain_length * self.scene.length_unit)
+
+    @property
+    def contact_intervals(self) -> list[tuple[float, float]]:
+        """The contact as a list of (start, end) intervals in h, apex frame, sorted.
+
+        One interval [x_c - a, x_c + a] for a simply connected contact; several when the contact
+        splits (e.g. mu_d beyond ~95 at the paper's load): the outer ends are then x_c -+ a (the
+        grid-averaged envelope) and the inner ends the sub-grid edges fitted on the final grid.
+        Empty at zero load."""
+        if not self.half_width > 0:
+            return []
+        lo, hi = self.center - self.half_width, self.center + self.half_width
+        edges = sorted((float(e[0]), float(e[1])) for e in (self.info.get("edges") or ()))
+        if len(edges) <= 1:
+            return [(float(lo), float(hi))]
+        out = [list(e) for e in edges]
+        out[0][0], out[-1][1] = lo, hi
+        return [(float(a), float(b)) for a, b in out]
+
+    @property
+    def contact_intervals_m(self) -> list[list[float]]:
+        """``contact_intervals`` in metres, as [[start, end], ...] (the JSON form)."""
+        L = self.scene.length_unit
+        return [[a * L + 0.0, b * L + 0.0] for a, b in self.contact_intervals]
+
+    @property
+    def auto_reason(self) -> str | None:
+        """With model "auto": which model was chosen and why (else None)."""
+        return self.info.get("auto_reason")
+
+    def to_dict(self) -> dict:
+        """The JSON record (all SI; ``--json`` prints it): the keys of ``JSON_KEYS``, plus
+        ``auto_reason`` with model "auto".  Each key is also an attribute of the same name."""
+        rec = {key: getattr(self, key) for key in JSON_KEYS}
+        for key, value in rec.items():
+            if isinstance(value, np.generic):
+                rec[key] = value.item()
+        if self.auto_reason is not None:
+            rec["auto_reason"] = self.auto_reason
+        return rec
 
     def summary(self) -> dict:
-        """The JSON record (all SI); see ``JSON_KEYS``."""
-        s, L = self.scene, self.scene.length_unit
-        return {
-            "model": self.model,
-            "method": self.method,
-            "load_N_per_m": s.load,
-            "mu": s.mu,
-            "young_Pa": s.young,
-            "radius_m": s.radius,
-            "thickness_m": s.thickness,
-            "half_width_m": float(self.half_width * L),
-            "contact_center_m": float(self.center * L) + 0.0,
-            "x0_m": float(-self.center * L) + 0.0,  # + 0.0: no "-0.0" for a centred contact
-            "indentation_m": float(self.indentation * s.displacement_unit),
-            "max_pressure_Pa": float(self.max_pressure * s.stress_unit),
-            "max_pressure_x_m": float(self.max_pressure_x * L),
-            "grid_points": int(self.grid_points),
-            "domain_length_m": float(self.domain_length * L),
-            "iterations": int(self.iterations),
-            "residual": float(self.residual),
-            "error_estimate": float(self.error_estimate),
-            "wall_time_s": float(self.wall_time_s),
-            "plan_time_s": float(self.plan_time_s),
-        } | ({"auto_reason": self.info["auto_reason"]} if "auto_reason" in self.info else {})
+        """The JSON record (same as ``to_dict()``)."""
+        return self.to_dict()
+
+    # --- notebook niceties --------------------------------------------------------------------
+    def __repr__(self) -> str:
+        s = self.scene
+        mm, kPa = 1e3, 1e-3
+        n = len(self.contact_intervals)
+        split = f" in {n} intervals" if n > 1 else ""
+        return (f"<ContactResult {self.model}/{self.method}: P_L={s.load:g} N/m, mu_d={s.mu:g}, "
+                f"E={s.young / 1e6:g} MPa, R={s.radius * mm:g} mm, h={s.thickness * mm:g} mm | "
+                f"a={self.half_width_m * mm:.5g} mm{split}, x0={self.x0_m * mm:.5g} mm, "
+                f"d={self.indentation_m * 1e6:.5g} um, p_max={self.max_pressure_Pa * kPa:.5g} kPa | "
+                f"N={self.grid_points}, error estimate {self.error_estimate:.1e}>")
+
+    def __eq__(self, other) -> bool:
+        """Equal when scene, model, method, every scalar and every profile are equal (timings,
+        ``info`` ignored).  Never raises (arrays are compared whole)."""
+        if not isinstance(other, ContactResult):
+            return NotImplemented
+        if (self.scene, self.model, self.method) != (other.scene, other.model, other.method):
+            return False
+        for name in _SCALARS:
+            if getattr(self, name) != getattr(other, name):
+                return False
+        return all(np.array_equal(getattr(self, n), getattr(other, n)) for n in _ARRAYS)
+
+    __hash__ = None  # mutable: not hashable
 
     def profiles(self) -> dict:
         """Profile columns in SI (see ``PROFILE_COLUMNS``), apex frame."""
@@ -142,3 +243,105 @@ class ContactResult:
             "base_sigma_zz_Pa": self.base_sigma_zz_Pa,
             "base_sigma_xz_Pa": self.base_sigma_xz_Pa,
         }
+
+    def plot(self, ax=None, sensor=None):
+        """Draw the profiles; return the matplotlib ``Figure``.
+
+        Panels (x in mm from the indenter apex, +x the sliding direction; stresses in kPa):
+        surface pressure p (left axis) and surface shear mu_d p (right axis, its own scale);
+        base stresses sigma_zz(x, 0) (< 0 in compression) and sigma_xz(x, 0); with ``sensor``
+        (a ``SensorView`` from ``spectral_contact.sensor``, or a dict with ``S_zz_Pa``,
+        ``S_xz_Pa`` on ``x_m``) the MEMS view S_zz (> 0 in compression), S_xz.  The contact
+        interval(s) are shaded; the x range is the contact plus 2 h on each side.
+
+        ax : None (a new Figure with every panel), one matplotlib Axes (the surface panel only)
+             or a sequence of Axes (one per panel, in the order above).
+
+        matplotlib is imported here only (the rest of the package does not need it).
+        """
+        return _plot(self, ax, sensor)
+
+
+def _xrange_mm(result, margin_h: float = 2.0):
+    """Plot range [mm]: the contact plus ``margin_h`` film thicknesses on each side."""
+    L, mm = result.scene.length_unit, 1e3
+    x = result.x_m * mm
+    iv = result.contact_intervals
+    lo, hi = (iv[0][0], iv[-1][1]) if iv else (0.0, 0.0)
+    lo, hi = (lo - margin_h) * L * mm, (hi + margin_h) * L * mm
+    return max(lo, x.min()), min(hi, x.max())
+
+
+def _plot(result, ax=None, sensor=None):
+    from matplotlib.figure import Figure
+
+    s = result.scene
+    mm, kPa = 1e3, 1e-3
+    if sensor is not None and not isinstance(sensor, dict):
+        sensor = sensor.profiles()
+    nrow = 3 if sensor is not None else 2
+    if ax is None:
+        fig = Figure(figsize=(7.0, 2.5 * nrow + 0.5), layout="constrained")
+        axes = list(fig.subplots(nrow, 1, sharex=True))
+    elif hasattr(ax, "plot"):
+        axes, fig = [ax], ax.figure
+    else:
+        axes = list(ax)
+        fig = axes[0].figure
+    x = result.x_m * mm
+    xs = None
+    if sensor is not None:
+        xs = np.asarray(sensor.get("x_m", result.x_m), dtype=float) * mm
+    lo, hi = _xrange_mm(result)
+    sel = (x >= lo) & (x <= hi)
+    intervals = [(a * s.length_unit * mm, b * s.length_unit * mm) for a, b in result.contact_intervals]
+
+    def mark_contact(a, label=False):
+        for i, (u, v) in enumerate(intervals):
+            a.axvspan(u, v, color="0.9", zorder=0,
+                      label="contact" if (label and i == 0) else None)
+        a.axhline(0.0, color="0.6", lw=0.5, zorder=1)
+
+    a0 = axes[0]
+    mark_contact(a0, label=True)
+    a0.plot(x[sel], result.pressure_Pa[sel] * kPa, color="C0", label="pressure p = -sigma_zz(x, h)")
+    a0.set_ylabel("pressure p [kPa]", color="C0")
+    handles, labels = a0.get_legend_handles_labels()
+    leg_ax = a0
+    if s.mu != 0.0:
+        tw = a0.twinx()
+        tw.plot(x[sel], result.surface_shear_Pa[sel] * kPa, "--", color="C3",
+                label=f"surface shear sigma_xz(x, h) = {s.mu:g} p (right axis)")
+        tw.set_ylabel("surface shear [kPa]", color="C3")
+        lo_p, hi_p = a0.get_ylim()
+        # the right axis is the left one times mu_d: the curves coincide (mirror for mu_d < 0)
+        tw.set_ylim(lo_p * s.mu, hi_p * s.mu) if s.mu > 0 else tw.set_ylim(hi_p * s.mu, lo_p * s.mu)
+        h2, l2 = tw.get_legend_handles_labels()
+        handles, labels = handles + h2, labels + l2
+        leg_ax = tw
+    leg_ax.legend(handles, labels, fontsize=7, loc="lower left", bbox_to_anchor=(0.0, 1.0),
+                  ncols=2, frameon=False, borderaxespad=0.2)
+    split = f"; contact in {len(intervals)} intervals" if len(intervals) > 1 else ""
+    if ax is None:  # a figure of our own: the scene as its title
+        fig.suptitle(f"{result.model} model ({result.method}): P_L = {s.load:g} N/m, mu_d = {s.mu:g}, "
+                     f"E = {s.young / 1e6:g} MPa, R = {s.radius * mm:g} mm, h = {s.thickness * mm:g} mm"
+                     f"{split}", fontsize=8)
+    if len(axes) > 1:
+        a1 = axes[1]
+        mark_contact(a1)
+        a1.plot(x[sel], result.base_sigma_zz_Pa[sel] * kPa, color="C0", label="sigma_zz(x, 0)")
+        a1.plot(x[sel], result.base_sigma_xz_Pa[sel] * kPa, color="C3", label="sigma_xz(x, 0)")
+        a1.set_ylabel("base stress [kPa]")
+        a1.legend(fontsize=7, loc="best", title="sigma_zz < 0 in compression", title_fontsize=7)
+    if sensor is not None and len(axes) > 2:
+        a2 = axes[2]
+        mark_contact(a2)
+        ss = (xs >= lo) & (xs <= hi)
+        a2.plot(xs[ss], np.asarray(sensor["S_zz_Pa"])[ss] * kPa, color="C0", label="S_zz (> 0 compression)")
+        a2.plot(xs[ss], np.asarray(sensor["S_xz_Pa"])[ss] * kPa, color="C3", label="S_xz")
+        a2.set_ylabel("MEMS view S [kPa]")
+        a2.legend(fontsize=7, loc="best")
+    for a in axes:
+        a.set_xlim(lo, hi)
+    axes[-1].set_xlabel("x [mm] from the indenter apex (sliding toward +x)")
+    return fig

@@ -333,6 +333,20 @@ def test_calibrate_cli_writes_apparatus_csv_and_plot(tmp_path, capsys, rod_scan)
     G = load_apparatus_csv(out)
     assert G.radial(0.0) == pytest.approx(G_ZZ.radial(0.0), rel=0.05)
     assert png.stat().st_size > 10_000
+    # a plain CSV (metadata beside it), and solve --sensor takes it as compare does
+    from .conftest import assert_opens_plainly
+
+    assert_opens_plainly(out)
+    meta = json.loads((tmp_path / "G.meta.json").read_text())
+    assert meta["A_mV_per_bar"] == rec["A_mV_per_bar"] and meta["component"] == "zz"
+    assert main(["solve", "--tol", "1e-3", "--sensor", "--apparatus-zz", str(out), "--json"]) == 0
+    own = json.loads(capsys.readouterr().out)
+    assert main(["solve", "--tol", "1e-3", "--sensor", "--json"]) == 0
+    paper = json.loads(capsys.readouterr().out)
+    assert own["apparatus_zz"].startswith("TabulatedApparatus") and own["apparatus_xz"] == paper["apparatus_xz"]
+    # the calibrated G_zz is the paper's within the calibration's accuracy: peaks within 1 %
+    assert own["S_zz_peak_Pa"] == pytest.approx(paper["S_zz_peak_Pa"], rel=0.01)
+    assert own["S_zz_peak_Pa"] != paper["S_zz_peak_Pa"]
     # the punch computed internally gives the same A
     assert main(["calibrate", "--measured", str(meas), "--punch-load", "1.0", "--component",
                  "xz", "--method", "ratio", "--n-boot", "0", "--json"]) == 0

@@ -1,11 +1,11 @@
-import csv
-
 from spectral_contact.cli.main import main
+
+from .conftest import read_rows
 
 
 def test_benchmark_quick_through_the_cli(tmp_path, capsys):
     assert main(["study", "benchmark", "--quick", "--out", str(tmp_path)]) == 0
-    rows = list(csv.DictReader((tmp_path / "benchmark.csv").open()))
+    rows = read_rows(tmp_path / "benchmark.csv")
     assert rows[0]["case"].startswith("auto") and len(rows) == 4
     fixed = rows[1:]
     for r in fixed:

@@ -92,13 +92,16 @@ def register(subparsers) -> None:
                    help="rod radius [m] (250e-6)")
     p.add_argument("--thickness", type=_positive("--thickness"), default=0.002,
                    help="film thickness h [m] (0.002)")
-    p.add_argument("--component", choices=("zz", "xz"), default="zz")
+    p.add_argument("--component", choices=("zz", "xz"), default="zz",
+                   help="zz: normal channel (U_zz, S_zz); xz: shear channel (U_xz, S_xz) "
+                        "(default zz)")
     p.add_argument("--method", choices=("ratio", "wiener"), default="wiener",
                    help="ratio: the paper's Fourier ratio with noise floors; wiener: Tikhonov "
                         "with robust GCV (default)")
     p.add_argument("--noise-sd", type=float, default=None, help="noise sd of U [mV] (estimated)")
     p.add_argument("--n-boot", type=int, default=40, help="bootstrap realisations (40)")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=int, default=0,
+                   help="seed of the bootstrap's random numbers (default 0: reruns agree)")
     p.add_argument("--out", metavar="FILE.csv", help="write the radial apparatus function")
     p.add_argument("--plot", metavar="FILE.png", help="A G(r) with its band, and the U fit")
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -256,14 +259,22 @@ def _cmd_calibrate(args) -> int:
     cal = calibrate(r, U, S, comp, args.method, noise_sd_mV=args.noise_sd, n_boot=args.n_boot,
                     seed=args.seed)
     if out is not None:
-        from .files import write_csv
+        from .files import write_csv, write_meta_json
 
-        write_csv(out, cal.columns(),
-                  f"spectral_contact calibrate: G_{comp} (unit integral over the plane), "
-                  f"method {args.method}\n"
-                  f"A_{comp} = {cal.A_mV_per_bar:.6g} mV/bar (band {cal.A_lo:.6g} .. "
-                  f"{cal.A_hi:.6g}, {cal.info['level']:.0%}, {cal.info['n_boot']} bootstrap "
-                  f"realisations)\nmeasured {args.measured}; computed: {source}")
+        write_csv(out, cal.columns())
+        write_meta_json(out, {
+            "written_by": "spectral-contact calibrate",
+            "columns": {"r_m": "radius [m] from the sensor centre",
+                        "G_per_m2": f"G_{comp}, unit integral over the plane [1/m^2]",
+                        "G_lo_per_m2": f"lower edge of the {cal.info['level']:.0%} bootstrap band "
+                                       f"(noise only; bias not included) [1/m^2]",
+                        "G_hi_per_m2": "upper edge of that band [1/m^2]",
+                        "AG_mV_per_bar_per_m2": f"A_{comp} G_{comp} [mV/bar/m^2]"},
+            "component": comp, "method": args.method, "A_mV_per_bar": cal.A_mV_per_bar,
+            "A_lo_mV_per_bar": cal.A_lo, "A_hi_mV_per_bar": cal.A_hi,
+            "band_level": cal.info["level"], "n_boot": cal.info["n_boot"],
+            "noise_sd_mV": cal.info["noise_sd_mV"], "measured": str(args.measured),
+            "computed": source})
     if plot is not None:
         _plot_calibration(plot, cal, r, U)
     rec = {"component": comp, "method": args.method, "A_mV_per_bar": cal.A_mV_per_bar,
