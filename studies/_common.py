@@ -26,14 +26,15 @@ def progress(i: int, n: int, label: str, t0: float) -> None:
 
 def write_rows(rows: list[dict], path: Path, title: str | None = None) -> None:
     """Rows as a plain CSV (one header row, no comments: ``pandas.read_csv(path)`` and
-    ``numpy.genfromtxt(path, delimiter=',', names=True)`` open it as it is); the title, which
-    says the units (h, E h/6R, ... unless the column name has an SI suffix), goes to
-    ``NAME.meta.json`` beside it."""
+    ``numpy.genfromtxt(path, delimiter=',', names=True)`` open it as it is; numpy does not read
+    quotes, so commas inside text cells are written as ';'); the title, which says the units
+    (h, E h/6R, ... unless the column name has an SI suffix), goes to ``NAME.meta.json``."""
     cols = list(rows[0])
     with path.open("w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=cols)
         w.writeheader()
-        w.writerows(rows)
+        w.writerows([{k: v.replace(",", ";") if isinstance(v, str) else v for k, v in r.items()}
+                     for r in rows])
     if title:
         meta = path.with_name(path.stem + ".meta.json")
         meta.write_text(json.dumps({"title": title, "columns": cols, "units": UNITS_NOTE}, indent=2)

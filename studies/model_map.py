@@ -46,7 +46,7 @@ from spectral_contact.physics.film import base_stresses
 from spectral_contact.reference.hertz import hertz_base_stresses, hertz_film_sinking, hertz_half_width
 from spectral_contact.solvers import auto
 
-from ._common import parse, progress, table
+from ._common import parse, progress, table, write_rows
 
 METRICS = ("a", "c", "d", "pmax", "szz", "sxz")
 LEVELS = (0.01, 0.05, 0.10)
@@ -302,12 +302,7 @@ def main(argv=None) -> int:
         r.update({"bound_H": d["bound_H"], "bound_G": d["bound_G"]})
         printed.append(d)
     # the CSV keeps every column; the printed table the main ones
-    import csv
-
-    with (out / "model_map.csv").open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_rows(rows, out / "model_map.csv", f"Every scene of the map, every error (reference tol {tol_ref:g})")
     table(printed, out / "model_map_printed.csv",
           f"Model errors against the exact model (reference tol {tol_ref:g}); s = a_Hertz/h; "
           f"max = largest of a, centre, indentation, p_max, base sigma_zz and sigma_xz profiles")

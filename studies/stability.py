@@ -37,7 +37,7 @@ from spectral_contact.numerics.edges import fit_edges, peak
 from spectral_contact.numerics.grid import Grid
 from spectral_contact.physics.film import DECAY_RATE
 
-from ._common import parse, progress, table
+from ._common import parse, progress, table, write_rows
 
 NAN = float("nan")
 _FAILURES = (ConvergenceError, ValueError, np.linalg.LinAlgError)
@@ -260,15 +260,6 @@ def thin_sweep(scene, a_thins, t0):
     return rows
 
 
-def _write_csv(rows, path):
-    import csv
-
-    with path.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-
-
 # --- figure --------------------------------------------------------------------------------------
 def plot(path, dom, grid, phase, mus, thin):
     import matplotlib
@@ -431,7 +422,8 @@ def main(argv=None) -> int:
           f"2b. Edge phase error (edge error / dx) vs theta, {main_across} points across; "
           f"avg = mean with the grid shifted half a cell (reference: 32x finer, averaged)")
     if len(acrosses) > 1:  # every resolution, CSV only (the chart shows them all)
-        _write_csv(phase, out / "stability_phase_all.csv")
+        write_rows(phase, out / "stability_phase_all.csv",
+                   "2b. Edge phase error (edge error / dx) vs theta, every resolution")
     table(psum, out / "stability_phase_summary.csv",
           "2b. Edge phase error summary over theta (both edges): mean (bias), rms about the mean, "
           "max |error| in dx; max relative error of a")

@@ -245,7 +245,10 @@ def _closed_pipe() -> int:
 def main(argv=None) -> int:
     try:
         args = build_parser().parse_args(argv)
-        status = args.func(args)
+        from .progress import show_progress
+
+        with show_progress():  # solver steps on stderr once a command passes 2 s
+            status = args.func(args)
         sys.stdout.flush()  # a closed pipe shows here, where it is handled
         return status
     except SystemExit:  # --help, --version: flush now, so that a closed pipe is handled too
