@@ -425,3 +425,20 @@ def test_radial_profile_reader_rejects_negative_radii(tmp_path):
     f = _csv(tmp_path / "neg.csv", {"r_m": np.arange(-2, 10) * 1e-4, "G": np.ones(12)})
     with pytest.raises(InputError, match="negative"):
         read_radial_profile(f, ("G",))
+
+
+@pytest.mark.parametrize("mu, P_bias, mu_bias", [
+    (0.3, -0.00737, -0.03153), (1.0, -0.00821, -0.03079), (2.0, -0.01149, -0.02826),
+    (3.0, -0.01867, -0.02278)])
+def test_integral_estimates_biased_low_in_a_10mm_window(mu, P_bias, mu_bias):
+    """README: the paper's integral estimates of P_L and mu_d from a +-10 mm window centred on
+    the contact, 200 N/m: P_L -0.7 to -1.9 %, mu_d -2.3 to -3.2 % (the window cuts the tails)."""
+    from spectral_contact import sensor, solve
+    from spectral_contact.instruments.compare import integral_estimates
+
+    r = solve(load=200.0, mu=mu)
+    v = sensor(r)
+    sel = np.abs(v.x_m - r.contact_center_m) <= 0.010
+    P, m = integral_estimates(v.x_m[sel], v.S_zz_Pa[sel], v.S_xz_Pa[sel])
+    assert P / 200.0 - 1 == pytest.approx(P_bias, abs=3e-4)
+    assert m / mu - 1 == pytest.approx(mu_bias, abs=3e-4)
