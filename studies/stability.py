@@ -391,9 +391,10 @@ def plot(path, dom, grid, phase, mus, thin):
         a.plot([], [], "rx", label="solver fails")
     a.axhline(1, color="k", lw=0.5)  # every curve drawn whole (log scale, no clipping)
     a.set_ylabel("ratio to the thin-film asymptote")
-    from matplotlib.ticker import FormatStrFormatter
+    from matplotlib.ticker import FormatStrFormatter, LogLocator
 
     a.yaxis.set_major_formatter(FormatStrFormatter("%g"))
+    a.yaxis.set_minor_locator(LogLocator(subs=(2.0, 5.0)))
     a.yaxis.set_minor_formatter(FormatStrFormatter("%g"))
     a.tick_params(axis="y", which="minor", labelsize=7)
     a.set_xlabel("a_thin = (15 P / 4)^(1/5)  [h]   (mu = 0)")

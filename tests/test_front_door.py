@@ -173,3 +173,25 @@ def test_solve_does_not_import_matplotlib():
 
 def test_scene_defaults_match_readme():
     assert Scene().load == 200.0
+
+
+def test_progress_lines_on_stderr_after_the_delay():
+    import io
+    import logging
+    import time
+
+    from spectral_contact.cli.progress import show_progress
+
+    log = logging.getLogger("spectral_contact.solvers.fft")
+    quiet, late = io.StringIO(), io.StringIO()
+    with show_progress(after=60.0, stream=quiet):
+        log.info("level 1, grid 2048 points")  # a fast command: nothing shown
+    with show_progress(after=0.05, stream=late):
+        log.info("level 1, grid 2048 points")
+        time.sleep(0.3)  # the delay passes: the latest step is shown, then every later one
+        log.info("level 2, grid 4096 points")
+    assert quiet.getvalue() == ""
+    lines = late.getvalue().splitlines()
+    assert len(lines) == 2 and "grid 2048" in lines[0] and "grid 4096" in lines[1]
+    assert all(ln.strip().startswith("[") and " s]" in ln for ln in lines)  # elapsed time
+    assert not logging.getLogger("spectral_contact").handlers  # removed afterwards
