@@ -153,6 +153,9 @@ def test_grammar_and_zero_load(capsys):
     assert main(["solve", "--load", "0"]) == 0
     out = capsys.readouterr().out
     assert "peak pressure" in out and " at x = " not in out
+    assert main(["solve", "--load", "0", "--sensor", "--json"]) == 0
+    out = capsys.readouterr().out
+    assert "NaN" not in out and json.loads(out)["S_zz_peak_x_m"] is None  # strict JSON
 
 
 def test_closed_pipe_ends_quietly():

@@ -108,7 +108,7 @@ def _apparatus_option(path):
 def _cmd_solve(args) -> int:
     from ..api import solve
     from ..physics.scene import Scene
-    from .files import check_plot_path, to_json, write_csv, write_meta_json
+    from .files import check_plot_path, json_ready, to_json, write_csv, write_meta_json
 
     scene = Scene(load=args.load, mu=args.mu, young=args.young, radius=args.radius,
                   thickness=args.thickness)
@@ -142,7 +142,7 @@ def _cmd_solve(args) -> int:
 
         plot_result(r, args.plot, sensor=view)
     if args.json:
-        print(to_json(record))
+        print(to_json(json_ready(record)))  # null, not NaN (no peak at zero load)
     else:
         print(_summary_text(r, view))
     return 0
