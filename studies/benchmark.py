@@ -6,9 +6,10 @@ For the paper's scene (P_L = 200 N/m, mu_d = 2): the automatic solve at tol 1e-4
 grids N = 2^12 ... 2^20 on the automatic period.  Each time is the median of >= 5 warm runs
 (plans made beforehand, not timed); beside it, the median time of one pyfftw rfft/irfft pair of
 the same N measured in the same process, so the cost reads as FFT pairs per solve.  Then the
-start-up: wall time of fresh processes (median of 11, 3 with --quick) for the interpreter alone,
+start-up: wall time of fresh processes (median of 11) for the interpreter alone,
 ``import spectral_contact``, and ``spectral-contact solve`` until its summary is printed (the
-first result a user sees).  Writes benchmark.csv, benchmark_startup.csv and benchmark.png.
+first result a user sees; one run with --quick).  Writes benchmark.csv, benchmark_startup.csv
+and benchmark.png.
 Times are only worth quoting from a quiet machine.
 """
 from __future__ import annotations
@@ -95,7 +96,7 @@ def main(argv=None) -> int:
     table(rows, out / "benchmark.csv",
           f"Paper scene (P_L = {scene.load:g} N/m, mu_d = {scene.mu:g}), period {L:.2f} h; "
           f"medians of warm runs")
-    table(startup_times(3 if args.quick else 11), out / "benchmark_startup.csv",
+    table(startup_times(1 if args.quick else 11), out / "benchmark_startup.csv",
           "Start-up: wall time of fresh processes [ms] (quote only from a quiet machine)")
     base = rows[1]
     last = rows[-1]

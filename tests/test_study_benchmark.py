@@ -14,6 +14,9 @@ def test_benchmark_quick_through_the_cli(tmp_path, capsys):
     # the preconditioned iteration count does not grow materially with N
     assert int(fixed[-1]["gmres_its"]) <= 2 * int(fixed[0]["gmres_its"])
     assert (tmp_path / "benchmark.png").stat().st_size > 10_000
+    start = {r["case"].split(" (")[0]: float(r["median_ms"]) for r in read_rows(tmp_path / "benchmark_startup.csv")}
+    assert set(start) == {"interpreter alone", "import spectral_contact", "spectral-contact solve"}
+    assert start["spectral-contact solve"] > start["interpreter alone"] > 0
     assert "GMRES iterations" in capsys.readouterr().out
 
 
