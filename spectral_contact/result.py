@@ -252,7 +252,8 @@ class ContactResult:
         base stresses sigma_zz(x, 0) (< 0 in compression) and sigma_xz(x, 0); with ``sensor``
         (a ``SensorView`` from ``spectral_contact.sensor``, or a dict with ``S_zz_Pa``,
         ``S_xz_Pa`` on ``x_m``) the MEMS view S_zz (> 0 in compression), S_xz.  The contact
-        interval(s) are shaded; the x range is the contact plus 2 h on each side.
+        interval(s) are shaded; the x range is the contact plus 2 h on each side (the surface
+        panel zooms on the contact when the contact is small against that range).
 
         ax : None (a new Figure with every panel), one matplotlib Axes (the surface panel only)
              or a sequence of Axes (one per panel, in the order above).
@@ -282,7 +283,7 @@ def _plot(result, ax=None, sensor=None):
     nrow = 3 if sensor is not None else 2
     if ax is None:
         fig = Figure(figsize=(7.0, 2.5 * nrow + 0.5), layout="constrained")
-        axes = list(fig.subplots(nrow, 1, sharex=True))
+        axes = list(fig.subplots(nrow, 1))
     elif hasattr(ax, "plot"):
         axes, fig = [ax], ax.figure
     else:
@@ -341,7 +342,17 @@ def _plot(result, ax=None, sensor=None):
         a2.plot(xs[ss], np.asarray(sensor["S_xz_Pa"])[ss] * kPa, color="C3", label="S_xz")
         a2.set_ylabel("MEMS view S [kPa]")
         a2.legend(fontsize=7, loc="best")
+    xlabel = "x [mm] from the indenter apex (sliding toward +x)"
     for a in axes:
         a.set_xlim(lo, hi)
-    axes[-1].set_xlabel("x [mm] from the indenter apex (sliding toward +x)")
+    if intervals and len(axes) > 1:
+        u, v = intervals[0][0], intervals[-1][1]
+        if v - u < 0.25 * (hi - lo):  # a small contact: its own zoom on the surface panel
+            pad = 0.25 * (v - u)
+            a0.set_xlim(u - pad, v + pad)
+            a0.set_xlabel(xlabel + ", zoomed on the contact", fontsize=8)
+    for a in axes[1:-1]:  # the base and sensor panels share the range: one label at the bottom
+        a.sharex(axes[-1])
+        a.tick_params(labelbottom=False)
+    axes[-1].set_xlabel(xlabel)
     return fig
