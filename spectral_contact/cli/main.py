@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import math
 import os
 import sys
 
@@ -247,7 +248,8 @@ def main(argv=None) -> int:
         args = build_parser().parse_args(argv)
         from .progress import show_progress
 
-        with show_progress():  # solver steps on stderr once a command passes 2 s
+        # solver steps on stderr once a command passes 2 s (studies print their own progress)
+        with show_progress(after=math.inf if args.command == "study" else 2.0):
             status = args.func(args)
         sys.stdout.flush()  # a closed pipe shows here, where it is handled
         return status

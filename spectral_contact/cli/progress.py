@@ -25,9 +25,11 @@ class _Handler(logging.Handler):
         self.stream = stream
         self.live = False
         self.pending = None
-        self.timer = threading.Timer(after, self._wake)
-        self.timer.daemon = True
-        self.timer.start()
+        self.timer = None
+        if after != float("inf"):  # inf: never show (the command reports its own progress)
+            self.timer = threading.Timer(after, self._wake)
+            self.timer.daemon = True
+            self.timer.start()
 
     def _line(self, record) -> str:
         return f"  [{record.created - self.t0:6.1f} s] {record.getMessage()}"
@@ -54,14 +56,15 @@ class _Handler(logging.Handler):
             self.pending = line
 
     def close(self) -> None:
-        self.timer.cancel()
+        if self.timer is not None:
+            self.timer.cancel()
         super().close()
 
 
 @contextlib.contextmanager
 def show_progress(after: float = 2.0, stream=None):
     """Within the block, print the package's INFO log lines on stderr once ``after`` seconds
-    have passed."""
+    have passed (``after=inf``: never)."""
     logger = logging.getLogger("spectral_contact")
     handler = _Handler(after, stream or sys.stderr)
     old_level = logger.level
