@@ -27,6 +27,7 @@ from __future__ import annotations
 from functools import lru_cache
 
 import numpy as np
+from scipy.special import j0, j1
 
 from ..physics.transfer import F0_minus_1, transfer_functions
 
@@ -80,7 +81,6 @@ def _rule(rule, kmax, *lengths):
 
 def m_kernels(x, t, rule=None):
     """(M00, M01, M10, M11) at all pairs (x_i, t_j); each of shape (len(x), len(t))."""
-    from scipy.special import j0, j1  # scipy.special on first use (fast start-up)
     x = np.atleast_1d(np.asarray(x, float))
     t = np.atleast_1d(np.asarray(t, float))
     k, wk = _rule(rule, KMAX_M, x, t)
@@ -104,7 +104,6 @@ def m_kernels(x, t, rule=None):
 
 def z_kernels(x, t, rule=None):
     """Z1..Z6 at all pairs (x_i, t_j): array of shape (6, len(x), len(t))."""
-    from scipy.special import j0, j1  # scipy.special on first use (fast start-up)
     x = np.atleast_1d(np.asarray(x, float))
     t = np.atleast_1d(np.asarray(t, float))
     k, wk = _rule(rule, KMAX_Z, x, t)
@@ -124,7 +123,6 @@ def z_kernels(x, t, rule=None):
 
 def aposteriori_kernels(t, rule=None):
     """The t-only kernels of the x0 and 1/alpha equations (see module docstring)."""
-    from scipy.special import j0, j1  # scipy.special on first use (fast start-up)
     t = np.atleast_1d(np.asarray(t, float))
     k, wk = _rule(rule, KMAX_M, t)
     _, F1_, _, _, _ = transfer_functions(k)

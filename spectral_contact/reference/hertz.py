@@ -38,6 +38,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy import special
 
 from ..numerics.fft import get_rfft
 from ..numerics.grid import Grid
@@ -65,7 +66,6 @@ def hertz_pressure(x: np.ndarray, a: float) -> np.ndarray:
 
 def hertz_pressure_spectrum(k: np.ndarray, a: float) -> np.ndarray:
     """p^(k) = 4 pi a J1(k a)/k, real and even (numpy's convention, contact centred at 0)."""
-    from scipy import special  # scipy.special on first use (fast start-up)
     k = np.abs(np.asarray(k, dtype=float))
     out = np.full(k.shape, 2.0 * math.pi * a * a)
     nz = k * a > 1e-8
@@ -105,7 +105,6 @@ def _tail_J1_over_t2(x: float) -> float:
     """Int_x^inf J1(t)/t^2 dt = (1/2) [Int_x^inf J0(t)/t dt + J1(x)/x]   (x > 0),
     using J1/t = (J0 + J2)/2, Int_x^inf J2/t dt = J1(x)/x, and
     Int_x^inf J0/t dt = Int_0^x (1 - J0)/t dt - ln(x/2) - gamma."""
-    from scipy import special  # scipy.special on first use (fast start-up)
     int_1mj0, _ = special.it2j0y0(x)
     e0 = int_1mj0 - math.log(x / 2.0) - np.euler_gamma
     return 0.5 * (e0 + special.j1(x) / x)
@@ -114,7 +113,6 @@ def _tail_J1_over_t2(x: float) -> float:
 def hertz_film_sinking(a: float) -> float:
     """w(0) = 2a Int_0^inf F0(k) J1(k a)/k^2 dk: the film's sinking at the apex under the Hertz
     pressure of half-width a (in h^2/(2R)); ~ the film's indentation for a << h."""
-    from scipy import special  # scipy.special on first use (fast start-up)
     if a <= 0.0:
         return 0.0
     panel = min(1.0, math.pi / (2.0 * a))  # a few nodes per oscillation of J1(ka)

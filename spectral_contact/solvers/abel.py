@@ -70,6 +70,7 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.special import j0, j1
 
 from ..errors import ConvergenceError, InputError
 from ..numerics.abel_kernels import (
@@ -165,7 +166,6 @@ class _Abel:
 
     def base_stresses(self, xp, mu_base: float, with_psi: bool = True):
         """sigma_zz(x, 0), sigma_xz(x, 0) at paper-frame xp (paper's Z1..Z6 formulas)."""
-        from scipy.special import j0, j1  # scipy.special on first use (fast start-up)
         xp = np.atleast_1d(np.asarray(xp, float))
         tf, wf, phif, psif = self.fine()
         k, wk = k_rule(KMAX_Z, float(np.max(np.abs(xp), initial=0.0)) + self.a)
