@@ -38,10 +38,12 @@ Store (``out`` given): every finished scene is written at once to ``out/scenes/<
 (temporary file then rename), ``key`` a hash of the sorted parameters and the package version; a
 rerun reuses every stored scene and solves only the missing ones, so Ctrl-C loses at most the
 scenes in flight.  "crashed" scenes (an unexpected exception, a dead worker) are not stored: a
-rerun retries them.  At the end: ``out/summary.csv`` (one header row: ``pandas.read_csv`` opens
-it), ``out/summary.parquet`` if pyarrow is installed, and with ``profiles=True`` the profiles of
-each solved scene in ``out/profiles/<key>.csv`` (``result.PROFILE_COLUMNS``; 3D: the y = 0 line)
-and, for 3D scenes, their maps in ``out/profiles/<key>.npz`` (``result.MAP_KEYS``).
+rerun retries them.  At the end: ``out/summary.csv`` (one header row, no quotes:
+``pandas.read_csv`` and ``numpy.genfromtxt(..., names=True, dtype=str)`` open it; commas in text cells
+become ';', lists JSON with ';' for ','), ``out/summary.parquet`` if pyarrow is installed, and
+with ``profiles=True`` the profiles of each solved scene in ``out/profiles/<key>.csv``
+(``result.PROFILE_COLUMNS``; 3D: the y = 0 line) and, for 3D scenes, their maps in
+``out/profiles/<key>.npz`` (``result.MAP_KEYS``).
 
 Needs the optional extra ``pip install 'spectral_contact[sweep]'`` (pandas; dask.distributed for
 the local and external engines).
@@ -857,17 +859,33 @@ def map_tasks(func, items, *, engine: str = "auto", workers: int | None = None,
     return results
 
 
+def _plain(v):
+    """A cell as plain text for the files: lists (3D [nx, ny], contact_intervals_m) as JSON with
+    ';' for ',' ("[256;256]": ``json.loads(cell.replace(";", ","))`` reads it back), commas in
+    text as ';' (so that readers without quoting, numpy.genfromtxt, split the columns right)."""
+    if isinstance(v, (list, tuple)):
+        return json.dumps(v, separators=(";", ":"))
+    if isinstance(v, str):
+        return v.replace(",", ";")
+    return v
+
+
 def _write_tables(df, out: Path) -> None:
+    from pandas.api.types import is_numeric_dtype
+
+    df = df.copy()
+    for c in df.columns:  # text and list columns (object, or pandas' string dtype)
+        if not is_numeric_dtype(df[c]):
+            df[c] = [_plain(v) for v in df[c]]
     _atomic_write(out / "summary.csv", lambda fh: df.to_csv(fh, index=False))
     try:
         import pyarrow  # noqa: F401
     except ModuleNotFoundError:
         return
-    df = df.copy()
-    for c in df.columns:  # a column of mixed kinds (2D int and 3D [nx, ny]) as text for Arrow
-        if df[c].dtype == object:
-            kinds = {type(v) for v in df[c] if v is not None}
-            if len(kinds) > 1 or list in kinds:
+    for c in df.columns:  # a column of mixed kinds (2D int and 3D "[nx;ny]") as text for Arrow
+        if not is_numeric_dtype(df[c]):
+            kinds = {type(v) for v in df[c] if v is not None and v == v}
+            if len(kinds) > 1:
                 df[c] = [None if v is None else str(v) for v in df[c]]
     path = out / "summary.parquet"
     fd, tmp = tempfile.mkstemp(dir=out, prefix="summary.parquet.", suffix=".tmp")

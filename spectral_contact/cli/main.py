@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import math
 import os
 import sys
 
@@ -48,43 +49,81 @@ def _add_scene_options(p):
     p.add_argument("--thickness", type=float, default=d.thickness, help=f"h [m] (default {d.thickness:g})")
 
 
-def _summary_text(r) -> str:
-    s = r.summary()
+def _plural(n: int, word: str) -> str:
+    return f"{n} {word}" + ("" if n == 1 else "s")
+
+
+def _summary_text(r, view=None) -> str:
+    """The text summary of a result (and of its sensor view, if given)."""
+    s = r.to_dict()
     for key in ("contact_center_m", "x0_m"):  # a centred contact prints 0, not -0.00000
         if abs(s[key]) < 5e-9:
             s[key] = 0.0
     mm, kPa = 1e3, 1e-3
+    loaded = s["max_pressure_Pa"] > 0
+    at = f" at x = {s['max_pressure_x_m'] * mm:.4f} mm" if loaded else ""
     lines = [
         f"{s['model']} model, {s['method']} method: P_L = {s['load_N_per_m']:g} N/m, mu_d = {s['mu']:g}, "
         f"E = {s['young_Pa'] / 1e6:g} MPa, R = {s['radius_m'] * mm:g} mm, h = {s['thickness_m'] * mm:g} mm",
         f"  contact half-width a     {s['half_width_m'] * mm:10.5f} mm",
         f"  contact centre (apex=0)  {s['contact_center_m'] * mm:10.5f} mm   (paper's x0 = {s['x0_m'] * mm:.5f} mm)",
         f"  indentation              {s['indentation_m'] * 1e6:10.5f} um",
-        f"  peak pressure            {s['max_pressure_Pa'] * kPa:10.4f} kPa at x = {s['max_pressure_x_m'] * mm:.4f} mm",
+        f"  peak pressure            {s['max_pressure_Pa'] * kPa:10.4f} kPa{at}",
     ]
-    if r.base_sigma_zz.size:
+    iv = s["contact_intervals_m"]
+    if len(iv) > 1:
+        spans = ", ".join(f"[{u * mm:.4f}, {v * mm:.4f}]" for u, v in iv)
+        lines.append(f"  contact in {len(iv)} intervals {spans} mm (a and centre: of their envelope)")
+    if r.base_sigma_zz.size and loaded:
         import numpy as np
 
         i = int(np.argmin(r.base_sigma_zz_Pa))
         j = int(np.argmax(np.abs(r.base_sigma_xz_Pa)))
         for name, field, m in (("zz", r.base_sigma_zz_Pa, i), ("xz", r.base_sigma_xz_Pa, j)):
             lines.append(f"  peak base sigma_{name}       {field[m] * kPa:10.4f} kPa at x = {r.x_m[m] * mm:.4f} mm")
+    if view is not None and loaded:
+        for c in ("zz", "xz"):
+            S, x, U = (getattr(view, f"S_{c}_peak_Pa"), getattr(view, f"S_{c}_peak_x_m"),
+                       getattr(view, f"U_{c}_peak_mV"))
+            lines.append(f"  sensor peak S_{c}         {S * kPa:10.4f} kPa at x = {x * mm:.4f} mm   "
+                         f"(U_{c} = {U:.4f} mV)")
     if "auto_reason" in r.info:
         lines.append(f"  auto: {r.info['auto_reason']}")
     grid = (f"{s['grid_points']} Nystrom nodes, profiles over {s['domain_length_m'] * mm:.2f} mm"
             if s["method"] == "abel" else
             f"grid {s['grid_points']} points over {s['domain_length_m'] * mm:.2f} mm")
     lines.append(
-        f"  {grid}, {s['iterations']} iterations, "
+        f"  {grid}, {_plural(s['iterations'], 'iteration')}, "
         f"residual {s['residual']:.1e}, error estimate {s['error_estimate']:.1e}, "
         f"solve {s['wall_time_s'] * 1e3:.1f} ms (+ planning {s['plan_time_s'] * 1e3:.1f} ms)")
     return "\n".join(lines)
 
 
+_PROFILE_NOTES = {
+    "x_m": "position [m] from the indenter apex, +x the sliding direction (mu_d > 0)",
+    "pressure_Pa": "contact pressure p = -sigma_zz(x, h) >= 0 [Pa]",
+    "surface_shear_Pa": "surface shear sigma_xz(x, h) = mu_d p [Pa]",
+    "base_sigma_zz_Pa": "normal stress at the rigid base sigma_zz(x, 0) [Pa], < 0 in compression",
+    "base_sigma_xz_Pa": "shear stress at the rigid base sigma_xz(x, 0) [Pa]",
+    "S_zz_Pa": "MEMS view S_zz = -G_zz (*) sigma_zz(x, 0) [Pa], > 0 in compression",
+    "S_xz_Pa": "MEMS view S_xz = G_xz (*) sigma_xz(x, 0) [Pa]",
+    "U_zz_mV": "sensor output U_zz = A_zz S_zz [mV]",
+    "U_xz_mV": "sensor output U_xz = A_xz S_xz [mV]",
+}
+
+
+def _apparatus_option(path):
+    if not path:
+        return None
+    from ..instruments.apparatus import load_apparatus_csv
+
+    return load_apparatus_csv(path)
+
+
 def _cmd_solve(args) -> int:
     from ..api import solve
     from ..physics.scene import Scene
-    from .files import check_plot_path, to_json, write_csv
+    from .files import check_plot_path, json_ready, to_json, write_csv, write_meta_json
 
     if args.indenter != "line":
         return _cmd_solve3d(args)
@@ -96,28 +135,37 @@ def _cmd_solve(args) -> int:
                   young=args.young, radius=args.radius, thickness=args.thickness)
     if args.plot:
         check_plot_path(args.plot)
+    apparatus = None
+    if args.apparatus_zz or args.apparatus_xz:
+        if not args.sensor:
+            raise InputError("--apparatus-zz/--apparatus-xz need --sensor")
+        apparatus = (_apparatus_option(args.apparatus_zz), _apparatus_option(args.apparatus_xz))
     r = solve(scene, model=args.model, method=args.method, tol=args.tol,
               grid_points=args.grid_points, domain_length=args.domain_length)
-    sensor = None
+    view = None
     if args.sensor:
-        from ..instruments.sensor import sensor_view
+        from ..instruments.mems_view import sensor
 
-        sensor = sensor_view(r, A_zz_mV_per_bar=args.a_zz, A_xz_mV_per_bar=args.a_xz)
+        view = sensor(r, A_zz_mV_per_bar=args.a_zz, A_xz_mV_per_bar=args.a_xz, apparatus=apparatus)
+    record = r.to_dict() | (view.to_dict() if view is not None else {})
     if args.profiles:
         cols = r.profiles()
-        if sensor:
-            cols.update({k: sensor[k] for k in ("S_zz_Pa", "S_xz_Pa", "U_zz_mV", "U_xz_mV")})
-        write_csv(args.profiles, cols,
-                  "spectral_contact profiles, apex frame, +x = sliding direction; "
-                  "sigma_zz < 0 in compression (S_zz > 0 in compression)")
+        if view is not None:
+            cols.update({k: v for k, v in view.profiles().items() if k != "x_m"})
+        write_csv(args.profiles, cols)
+        write_meta_json(args.profiles, {
+            "written_by": "spectral-contact solve",
+            "columns": {k: _PROFILE_NOTES[k] for k in cols},
+            "result": record,
+        })
     if args.plot:
         from .plots import plot_result
 
-        plot_result(r, args.plot, sensor=sensor)
+        plot_result(r, args.plot, sensor=view)
     if args.json:
-        print(to_json(r.summary()))
+        print(to_json(json_ready(record)))  # null, not NaN (no peak at zero load)
     else:
-        print(_summary_text(r))
+        print(_summary_text(r, view))
     return 0
 
 
@@ -238,15 +286,44 @@ def _cmd_study(args) -> int:
     return int(mod.main(argv) or 0)
 
 
+def _study_lines() -> str:
+    """One line per study: its name and the first line of its docstring (read, not imported)."""
+    import ast
+    import importlib.util
+    from pathlib import Path
+
+    spec = importlib.util.find_spec("studies")
+    if spec is None or not spec.submodule_search_locations:
+        return "  (studies/ not found: run from the project's checkout)"
+    lines = []
+    for path in sorted(Path(next(iter(spec.submodule_search_locations))).glob("[a-z]*.py")):
+        try:
+            doc = ast.get_docstring(ast.parse(path.read_text(encoding="utf-8"))) or ""
+        except (OSError, SyntaxError):
+            continue
+        lines.append(f"  {path.stem:<18} {doc.strip().splitlines()[0] if doc.strip() else ''}")
+    return "\n".join(lines)
+
+
 def build_parser() -> argparse.ArgumentParser:
+    from .. import __version__
+
     parser = _Parser(prog="spectral-contact",
                      description="Sliding cylinder on a bonded incompressible film: pressure, "
                                  "base stresses, MEMS view.")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     p = sub.add_parser("solve", help="solve one scene (default: the paper's)")
     _add_scene_options(p)
-    p.add_argument("--model", choices=("exact", "goodman", "hertz", "auto"), default="exact")
-    p.add_argument("--method", choices=("fft", "abel"), default="fft")
+    p.add_argument("--model", choices=("exact", "goodman", "hertz", "auto"), default="exact",
+                   help="exact: the paper's model, friction coupled into the contact (default); "
+                        "goodman: frictionless pressure and window, friction loads the base only; "
+                        "hertz: half-space Hertz pressure put on the film (closed form; 3D: "
+                        "sphere only); auto (line only): the cheapest of the three whose error "
+                        "bound is below --tol")
+    p.add_argument("--method", choices=("fft", "abel"), default="fft",
+                   help="fft: spectral solver on a periodic grid (default); abel: the paper's "
+                        "Abel/Fredholm formulation, an independent check (line indenter only)")
     p.add_argument("--tol", type=float, default=None,
                    help="relative accuracy target, in (0, 0.1) (default 1e-4 for the line "
                         "indenter; 1e-3 in 3D, 1e-2 for the finite cylinder: its sharp ends "
@@ -260,16 +337,28 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", metavar="FILE.png", help="plot pressure and base stresses (3D: maps)")
     p.add_argument("--maps", metavar="FILE.npz", default=None,
                    help="3D indenters: write the surface and base maps (SI, arrays [x, y])")
-    p.add_argument("--sensor", action="store_true", help="add the MEMS sensor view (S, U) to profiles and plot")
+    p.add_argument("--sensor", action="store_true",
+                   help="add the MEMS sensor view: peak S_zz, S_xz, U in the summary and JSON, "
+                        "S and U columns in --profiles, a panel in --plot (3D: S maps in "
+                        "--maps and --plot)")
     p.add_argument("--a-zz", type=float, default=A_ZZ_MV_PER_BAR,
                    help=f"A_zz [mV/bar] (default {A_ZZ_MV_PER_BAR:.2f})")
     p.add_argument("--a-xz", type=float, default=A_XZ_MV_PER_BAR,
                    help=f"A_xz [mV/bar] (default {A_XZ_MV_PER_BAR:.2f})")
+    p.add_argument("--apparatus-zz", metavar="G.csv", default=None,
+                   help="radial G_zz (columns r_m and G or G_per_m2, as 'calibrate --out' writes) "
+                        "instead of the paper's Gaussian; needs --sensor")
+    p.add_argument("--apparatus-xz", metavar="G.csv", default=None,
+                   help="radial G_xz instead of the paper's; needs --sensor")
     p.set_defaults(func=_cmd_solve)
-    p = sub.add_parser("study", help="run a study from studies/ (python -m studies.NAME)")
-    p.add_argument("name")
-    p.add_argument("--quick", action="store_true")
-    p.add_argument("--out", default=None)
+    p = sub.add_parser("study", help="run a study from studies/ (python -m studies.NAME)",
+                       description="Run one study (python -m studies.NAME): it prints its table, "
+                                   "writes CSV + PNG into --out, progress on stderr.\n\nstudies:\n"
+                                   + _study_lines(),
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("name", metavar="NAME", help="one of the studies listed above")
+    p.add_argument("--quick", action="store_true", help="small version (under a minute; what the tests run)")
+    p.add_argument("--out", default=None, metavar="DIR", help="output folder (default out/NAME)")
     p.set_defaults(func=_cmd_study)
     for name in _PLUGINS:
         try:
@@ -282,10 +371,35 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _closed_pipe() -> int:
+    """stdout's reader has gone: silence the interpreter's final flush; status 141 (128 +
+    SIGPIPE), as a program ended by the signal."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
+    return 141
+
+
 def main(argv=None) -> int:
     try:
         args = build_parser().parse_args(argv)
-        return args.func(args)
+        from .progress import show_progress
+
+        # solver steps on stderr once a command passes 2 s (studies print their own progress)
+        with show_progress(after=math.inf if args.command == "study" else 2.0):
+            status = args.func(args)
+        sys.stdout.flush()  # a closed pipe shows here, where it is handled
+        return status
+    except SystemExit:  # --help, --version: flush now, so that a closed pipe is handled too
+        try:
+            sys.stdout.flush()
+        except BrokenPipeError:
+            _closed_pipe()
+        raise
+    except BrokenPipeError:  # the reader went away (`| head`): end quietly
+        return _closed_pipe()
     except InputError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

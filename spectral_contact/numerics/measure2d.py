@@ -5,8 +5,9 @@ Edges are located to a small fraction of a cell along every grid line by the 1D 
 the fitted edge points, each taken from the line (row or column) that crosses the boundary more
 steeply (the lines that graze it are poorly fitted): against the axisymmetric reference its
 radius error falls steadily, ~dx^2, from 1e-2 to 3e-5 (tests/test_three_d.py); where a line
-holds several runs, the mean of the row-wise and column-wise integrals of the chords; the extents are the envelopes of the
-fitted edges, refined across lines by a parabola through the extreme line and its neighbours.
+holds several runs, the mean of the row-wise and column-wise integrals of the chords.  The
+extents are the envelopes of the fitted edges, refined across lines by a parabola through the
+extreme line and its neighbours.
 Lengths in the grid's unit; arrays indexed [x, y].
 """
 from __future__ import annotations

@@ -18,6 +18,7 @@ and adds the shifted-grid term.
 """
 from __future__ import annotations
 
+import logging
 import math
 import time
 
@@ -36,6 +37,8 @@ from .base import Method, check_grid_points, register
 from .fft3d import solve_fft3d
 
 __all__ = ["solve_fft", "FFTMethod", "MIN_POINTS", "MAX_POINTS"]
+
+_log = logging.getLogger(__name__)  # progress (INFO): one line per refinement level
 
 MIN_POINTS = 64
 MAX_POINTS = 2**22
@@ -161,6 +164,8 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     est = float("inf")
     last_diff = None
     for i, n in enumerate(sizes):
+        _log.info("%s model, fft: level %d, grid %d points over %.4g h%s", model, i + 1, n, L,
+                  f" (estimate so far {est:.1e}, tol {tol:.0e})" if est < math.inf else "")
         g = Grid.centered(n, L, center)
         # start from the locator's pressure (first level) or the previous level's
         if prev is None:
