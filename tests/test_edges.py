@@ -43,3 +43,32 @@ def test_same_roots_as_polyfit_on_edge_like_and_random_data():
             n_root += 1
             assert got == pytest.approx(ref, abs=1e-11), y
     assert n_root > 1000
+
+
+def _runs_by_rolling(active):
+    """The former contact_runs: roll to the first inactive node, then diff."""
+    n = active.size
+    start = int(np.argmin(active))
+    a = np.roll(active, -start)
+    d = np.diff(np.concatenate([[0], a.astype(np.int8), [0]]))
+    firsts = np.flatnonzero(d == 1)
+    lasts = np.flatnonzero(d == -1) - 1
+    return [((f + start) % n, (e + start) % n) for f, e in zip(firsts, lasts)]
+
+
+def test_contact_runs_same_runs_in_the_same_order_as_rolling():
+    from spectral_contact.numerics.edges import contact_runs
+    rng = np.random.default_rng(5)
+    cases = [np.array([1, 1, 0, 0, 1, 0, 1, 1], bool), np.array([0, 1, 1, 0], bool),
+             np.array([1, 0, 0, 0], bool), np.array([0, 0, 0, 1], bool),
+             np.array([1, 0, 0, 1], bool), np.array([0, 1, 0, 1, 0], bool)]
+    cases += [rng.random(n) < q for n in (5, 16, 64) for q in (0.2, 0.5, 0.8) for _ in range(30)]
+    cases += [rng.random((12, 7))[:, 3] < 0.5 for _ in range(20)]  # strided columns (2D)
+    n_checked = 0
+    for a in cases:
+        if a.all() or not a.any():
+            continue
+        assert contact_runs(a) == [(int(f), int(e)) for f, e in _runs_by_rolling(a)], a
+        n_checked += 1
+    assert n_checked > 200
+    assert contact_runs(np.zeros(8, bool)) == []

@@ -28,12 +28,22 @@ def contact_runs(active: np.ndarray):
     if active.all():
         raise InputError("the contact fills the whole periodic domain: enlarge domain_length, "
                          "or the scene is beyond the FFT method's range (contact wider than the period)")
-    start = int(np.argmin(active))  # an inactive node: no run wraps past it
-    a = np.roll(active, -start)
-    d = np.diff(np.concatenate([[0], a.astype(np.int8), [0]]))
-    firsts = np.flatnonzero(d == 1)
-    lasts = np.flatnonzero(d == -1) - 1
-    return [((f + start) % n, (e + start) % n) for f, e in zip(firsts, lasts)]
+    # run boundaries of the unrolled array; the run through node 0 (which may wrap around the
+    # period) is listed last, as if the array were read from its first inactive node
+    d = np.diff(active.astype(np.int8))
+    firsts = (np.flatnonzero(d == 1) + 1).tolist()
+    lasts = np.flatnonzero(d == -1).tolist()
+    head = None
+    if active[0]:
+        head = (0, lasts.pop(0))
+        if active[n - 1]:
+            head = (firsts.pop(), head[1])
+    elif active[n - 1]:
+        lasts.append(n - 1)
+    runs = list(zip(firsts, lasts))
+    if head is not None:
+        runs.append(head)
+    return runs
 
 
 def _quadratic_fit_root(y0, y1, y2, y3):
