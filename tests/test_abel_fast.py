@@ -78,3 +78,16 @@ def test_symmetric_peak_found_at_the_centre(model, load):
     bracket search stopped at 1e-8 - 3e-8 a from it."""
     r = solve(method="abel", model=model, load=load, mu=0.0, tol=1e-6)
     assert abs(r.max_pressure_x - r.center) < 1e-10 * r.half_width
+
+
+@pytest.mark.parametrize("load,mu", [(5.0, -10.0), (200.0, 2.0), (1000.0, 10.0), (5000.0, 0.5)])
+def test_peak_is_the_maximum_of_a_dense_sampling(load, mu):
+    from spectral_contact.physics.scene import Scene
+    from spectral_contact.solvers.abel import abel_fields
+
+    s = abel_fields(Scene(load=load, mu=mu), mu, 20)
+    sol = s.sol
+    dense = sol.pressure(np.linspace(-sol.a, sol.a, 20001)[1:-1]).max()
+    assert dense <= s.pmax * (1 + 1e-14)
+    pm, xm = sol.peak(s.xmax + 0.01 * sol.a)  # Newton steps from a previous level's peak
+    assert xm == pytest.approx(s.xmax, abs=1e-9 * sol.a) and pm == pytest.approx(s.pmax, rel=1e-13)

@@ -215,38 +215,45 @@ class _Abel:
                      - mu * (w @ (t * psi * K["K_F1J1_2k"])))
         return float(x0), float(inv_alpha)
 
+    def _vertex_steps(self, x: float, steps: int = 6):
+        """Newton steps on p'(x) = 0 by parabolas through x and x +- 1e-5 a (vertex error
+        ~ (p_xxx / p_xx) h^2 / 6 ~ 1e-11 a, about what p's round-off allows); None if p is not
+        concave there or a step leaves the contact."""
+        h = 1e-5 * self.a
+        for _ in range(steps):
+            pm_, p0, pp = self.pressure([x - h, x, x + h])
+            den = pm_ - 2.0 * p0 + pp
+            if not den < 0.0:
+                return None
+            step = 0.5 * h * (pm_ - pp) / den
+            x = x + step
+            if not abs(x) < self.a - h:
+                return None
+            if abs(step) <= 1e-10 * self.a:
+                return x
+        return x
+
     def peak(self, near: float | None = None):
-        """(max p, its paper-frame abscissa): the largest of 255 nodes across the contact (or,
-        given ``near``, of 65 nodes within a / 128 of it, if the largest is not at an end), then
-        twice the largest of 65 points across the bracket around it (spacing ~7e-6 a), then the
-        vertex of the parabola through the largest and its two neighbours: x_max to ~1e-10 a (a
-        bracket search alone stops at ~sqrt(eps) a, where p is flat to round-off)."""
-        rounds = 2
-        xs = None
+        """(max p, its paper-frame abscissa): from ``near`` (where a previous solve found the
+        peak), or from the vertex of the parabola through the largest of 255 nodes across the
+        contact and its neighbours, Newton steps by parabolas of spacing 1e-5 a: x_max to
+        ~1e-10 a (a bracket search alone stops at ~sqrt(eps) a, where p is flat to round-off).
+        Falls back to the 255 nodes if the steps from ``near`` fail."""
+        xm = None
         if near is not None and abs(near) < self.a:
-            w = self.a / 128.0
-            xs = np.linspace(max(near - w, -self.a), min(near + w, self.a), 65)
-            ps = self.pressure(xs)
-            i = int(np.argmax(ps))
-            if 0 < i < xs.size - 1:
-                rounds = 1
-            else:
-                xs = None
-        if xs is None:
+            xm = self._vertex_steps(float(near))
+        if xm is None:
             xs = np.linspace(-self.a, self.a, 257)[1:-1]
             ps = self.pressure(xs)
-        for _ in range(rounds):
             i = int(np.argmax(ps))
-            lo, hi = xs[max(i - 1, 0)], xs[min(i + 1, xs.size - 1)]
-            xs = np.linspace(lo, hi, 65)
-            ps = self.pressure(xs)
-        i = int(np.argmax(ps))
-        xm = xs[i]
-        if 0 < i < xs.size - 1:
-            pm_, p0, pp = ps[i - 1], ps[i], ps[i + 1]
-            den = pm_ - 2.0 * p0 + pp
-            if den < 0.0:
-                xm = xm + 0.5 * (xs[i + 1] - xs[i]) * (pm_ - pp) / den
+            xm = float(xs[i])
+            if 0 < i < xs.size - 1:
+                den = ps[i - 1] - 2.0 * ps[i] + ps[i + 1]
+                if den < 0.0:
+                    xm += 0.5 * (xs[1] - xs[0]) * (ps[i - 1] - ps[i + 1]) / den
+                refined = self._vertex_steps(xm)
+                if refined is not None:
+                    xm = refined
         return float(self.pressure([xm])[0]), float(xm)
 
 
