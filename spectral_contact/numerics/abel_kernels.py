@@ -11,7 +11,7 @@ Speed (issue 13): a rule depends only on kmax and its panel count, so rules and 
 transfer functions on them are tabulated once (``k_rule``, ``film_on_rule``); J0(kt), J1(kt)
 have bandwidth max|t| in k and are evaluated on panels several times wider than the rule's and
 interpolated (``bessel_on_rule``); sums over k of cos(kx), sin(kx) factor through the equal
-panels (``cos_sin_sums``).  Each agrees with the direct evaluation to ~1e-15
+panels (``cos_sin_sums``).  Each agrees with the direct evaluation to ~1e-14
 (tests/test_abel_fast.py).
 
 Kernels (dimensionless, lengths in h):
@@ -47,7 +47,8 @@ __all__ = [
 KMAX_M = 26.0  # k^3 exp(-2k) < 1e-17 beyond
 KMAX_Z = 46.0  # k exp(-k) < 1e-17 beyond
 _PANEL_POINTS = 20
-_INTERP_PHASE = 4.0  # largest phase across an interpolation panel (20 nodes: error ~1e-15)
+_INTERP_POINTS = 30  # Gauss nodes of an interpolation panel (bessel_on_rule) ...
+_INTERP_PHASE = 12.0  # ... and the largest phase across one (error < 2e-15 up to 15)
 
 
 @lru_cache(maxsize=64)
@@ -136,12 +137,14 @@ def _cis(theta):
 
 
 @lru_cache(maxsize=64)
-def _panel_interpolation(points: int, r: int) -> np.ndarray:
-    """Matrix (r * points, points): values at the Gauss nodes of the r equal sub-panels of a
-    panel from the values at the panel's own Gauss nodes (barycentric Lagrange), read-only."""
-    s, _ = _leggauss(points)
-    xt = (-1.0 + (2.0 * np.arange(r)[:, None] + s[None, :] + 1.0) / r).ravel()
-    bw = np.array([1.0 / np.prod(s[i] - np.delete(s, i)) for i in range(points)])
+def _panel_interpolation(points: int, r: int, source: int) -> np.ndarray:
+    """Matrix (r * points, source): values at the ``points`` Gauss nodes of each of the r equal
+    sub-panels of a panel from the values at the panel's own ``source`` Gauss nodes
+    (barycentric Lagrange), read-only."""
+    s, _ = _leggauss(source)
+    u, _ = _leggauss(points)
+    xt = (-1.0 + (2.0 * np.arange(r)[:, None] + u[None, :] + 1.0) / r).ravel()
+    bw = np.array([1.0 / np.prod(s[i] - np.delete(s, i)) for i in range(source)])
     d = xt[:, None] - s[None, :]
     hit = d == 0.0
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -158,9 +161,10 @@ def bessel_on_rule(t, rule, v0=None, v1=None):
     over t, the sums J0(k t) @ v0 and J1(k t) @ v1 (arrays (nk,)).
 
     As functions of k they have bandwidth max|t|: where that is small against the panel width,
-    they are evaluated at the Gauss nodes of panels r times wider (phase of exp(i k max|t|)
-    across one <= ``_INTERP_PHASE``) and interpolated to the rule's nodes by one fixed matrix
-    (exact to ~1e-15 of max|J|: tests/test_abel.py), r times fewer Bessel evaluations."""
+    they are evaluated at the ``_INTERP_POINTS`` Gauss nodes of panels r times wider (phase of
+    exp(i k max|t|) across one <= ``_INTERP_PHASE``) and interpolated to the rule's nodes by
+    one fixed matrix (to ~1e-14 of max|J|, round-off: tests/test_abel_fast.py): r * 20 / 30 times
+    fewer Bessel evaluations."""
     t = np.atleast_1d(np.asarray(t, float))
     key = getattr(rule, "key", None)
     tmax = float(np.max(np.abs(t), initial=0.0))
@@ -169,22 +173,23 @@ def bessel_on_rule(t, rule, v0=None, v1=None):
         kmax, n_panels, points = key
         width = kmax / n_panels
         r = min(n_panels, int(_INTERP_PHASE / (tmax * width)))
-    if r <= 1:
+    if r * points <= _INTERP_POINTS:  # (r = 1 included): direct evaluation is cheaper
         kt = np.outer(rule[0], t)
         J0, J1 = j0(kt), j1(kt)
         return (J0, J1) if v0 is None else (J0 @ v0, J1 @ v1)
+    q = _INTERP_POINTS
     n_src = -(-n_panels // r)
-    s, _ = _leggauss(points)
+    s, _ = _leggauss(q)
     ks = ((np.arange(n_src) * (r * width))[:, None] + (0.5 * r * width) * (s + 1.0)[None, :]).ravel()
     kt = np.outer(ks, t)
     J0, J1 = j0(kt), j1(kt)
     if v0 is not None:
         J0, J1 = J0 @ v0, J1 @ v1
-    L = _panel_interpolation(points, r)
+    L = _panel_interpolation(points, r, q)
     nk = n_panels * points
 
     def up(A):
-        B = np.matmul(L, A.reshape(n_src, points, -1))  # (n_src, r * points, m)
+        B = np.matmul(L, A.reshape(n_src, q, -1))  # (n_src, r * points, m)
         return B.reshape((n_src * r * points,) + A.shape[1:])[:nk]
 
     return up(J0), up(J1)
