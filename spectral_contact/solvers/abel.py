@@ -129,21 +129,35 @@ class _Abel:
 
     # --- interpolation of phi(t)/t and psi(t)/t (even analytic functions) ----------------------
     def _coeffs(self):
+        """Legendre coefficients (rows) of phi/t and psi/t on [0, a], shape (2, n)."""
         if not hasattr(self, "_c"):
             n = self.t.size
             s = 2.0 * self.t / self.a - 1.0
             ws = 2.0 * self.w / self.a
             P = np.polynomial.legendre.legvander(s, n - 1)
             proj = (P * ws[:, None]).T * ((2.0 * np.arange(n) + 1.0) / 2.0)[:, None]
-            self._c = (proj @ (self.phi / self.t), proj @ (self.psi / self.t))
+            self._c = np.stack([proj @ (self.phi / self.t), proj @ (self.psi / self.t)])
         return self._c
+
+    def _series(self, z):
+        """(phi/t, psi/t) at points z of [-1, 1] (t = a (z + 1) / 2), shape (2, z.size): the
+        Legendre Vandermonde rows by the three-term recurrence, then one matrix product."""
+        n = self.t.size
+        V = np.empty((n, z.size))
+        V[0] = 1.0
+        if n > 1:
+            V[1] = z
+        for i in range(2, n):
+            np.multiply(V[i - 1], z, out=V[i])
+            V[i] *= (2.0 * i - 1.0) / i
+            V[i] -= ((i - 1.0) / i) * V[i - 2]
+        return self._coeffs() @ V
 
     def interp(self, tq):
         """(phi(tq), psi(tq)) by Legendre interpolation of phi/t, psi/t on [0, a]."""
-        cphi, cpsi = self._coeffs()
-        s = 2.0 * np.asarray(tq) / self.a - 1.0
-        leg = np.polynomial.legendre.legval
-        return tq * leg(s, cphi), tq * leg(s, cpsi)
+        tq = np.asarray(tq, dtype=float)
+        vals = self._series((2.0 * tq / self.a - 1.0).ravel())
+        return tq * vals[0].reshape(tq.shape), tq * vals[1].reshape(tq.shape)
 
     # --- fields --------------------------------------------------------------------------------
     def pressure(self, xp):
@@ -159,19 +173,7 @@ class _Abel:
         S = np.sqrt(np.maximum(self.a**2 - xi**2, 0.0))
         s = S[:, None] * u[None, :]
         tq = np.sqrt(xi[:, None] ** 2 + s**2)
-        z = (2.0 * tq / self.a - 1.0).ravel()
-        # Legendre series of phi/t and psi/t at z: the Vandermonde rows by the three-term
-        # recurrence, then one matrix product for both series
-        n = self.t.size
-        V = np.empty((n, z.size))
-        V[0] = 1.0
-        if n > 1:
-            V[1] = z
-        for i in range(2, n):
-            np.multiply(V[i - 1], z, out=V[i])
-            V[i] *= (2.0 * i - 1.0) / i
-            V[i] -= ((i - 1.0) / i) * V[i - 2]
-        vals = np.stack(self._coeffs()) @ V  # (2, points * m)
+        vals = self._series((2.0 * tq / self.a - 1.0).ravel())
         integrand = vals[0].reshape(xi.size, m) + xi[:, None] * vals[1].reshape(xi.size, m)
         p[inside] = -S * (integrand @ wu)
         return p
