@@ -1,3 +1,5 @@
+import csv
+
 from spectral_contact.cli.main import main
 
 from .conftest import read_rows
@@ -17,7 +19,21 @@ def test_benchmark_quick_through_the_cli(tmp_path, capsys):
     start = {r["case"].split(" (")[0]: float(r["median_ms"]) for r in read_rows(tmp_path / "benchmark_startup.csv")}
     assert set(start) == {"interpreter alone", "import spectral_contact", "spectral-contact solve"}
     assert start["spectral-contact solve"] > start["interpreter alone"] > 0
-    assert "GMRES iterations" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "GMRES iterations" in printed
+    # issue 13's targets: each printed and written against its limit, met or not
+    # (commas inside text cells are written as ";": plain CSV readers split on commas)
+    targets = {r["target"].replace(";", ","): r
+               for r in csv.DictReader((tmp_path / "benchmark_targets.csv").open())}
+    assert len(targets) == 4 and "wall / CPU time" in printed
+    for r in targets.values():
+        assert r["status"] in ("met", "not met", "not measured (quick)")
+        if r["status"] != "not measured (quick)":
+            assert (r["status"] == "met") == (float(r["measured"]) <= float(r["limit"]))
+    err = targets["paper scene, fft, tol 1e-4: true error vs abel tol 1e-10"]
+    assert 0 < float(err["measured"]) < 1e-4  # the solver's accuracy, not a speed
+    assert float(targets["abel, tol 1e-8: solve time"]["measured"]) > 0
+    assert targets["fixed grids >= 2^16, cold start: solve time"]["status"].startswith("not measured")
 
 
 def test_unknown_study_exits_2(capsys):

@@ -10,6 +10,8 @@ from the last two contact nodes, then the midpoint of the cell.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..errors import InputError
@@ -26,12 +28,50 @@ def contact_runs(active: np.ndarray):
     if active.all():
         raise InputError("the contact fills the whole periodic domain: enlarge domain_length, "
                          "or the scene is beyond the FFT method's range (contact wider than the period)")
-    start = int(np.argmin(active))  # an inactive node: no run wraps past it
-    a = np.roll(active, -start)
-    d = np.diff(np.concatenate([[0], a.astype(np.int8), [0]]))
-    firsts = np.flatnonzero(d == 1)
-    lasts = np.flatnonzero(d == -1) - 1
-    return [((f + start) % n, (e + start) % n) for f, e in zip(firsts, lasts)]
+    # run boundaries of the unrolled array; the run through node 0 (which may wrap around the
+    # period) is listed last, as if the array were read from its first inactive node
+    d = np.diff(active.astype(np.int8))
+    firsts = (np.flatnonzero(d == 1) + 1).tolist()
+    lasts = np.flatnonzero(d == -1).tolist()
+    head = None
+    if active[0]:
+        head = (0, lasts.pop(0))
+        if active[n - 1]:
+            head = (firsts.pop(), head[1])
+    elif active[n - 1]:
+        lasts.append(n - 1)
+    runs = list(zip(firsts, lasts))
+    if head is not None:
+        runs.append(head)
+    return runs
+
+
+def _quadratic_fit_root(y0, y1, y2, y3):
+    """Roots of the least-squares parabola through (2, y0), (3, y1), (4, y2), (5, y3) that lie in
+    (-0.25, 1.5), the one nearest 0.5 (None if there is none).
+
+    Closed form of ``np.roots(np.polyfit(s, y, 2))``: in t = s - 3.5 the nodes are symmetric
+    (+-0.5, +-1.5) and 1, t, t^2 - 5/4 are orthogonal on them, so the fit is
+    alpha + beta t + gamma (t^2 - 5/4) with alpha the mean, beta = sum(t y) / 5 and
+    gamma = (y0 - y1 - y2 + y3) / 4; its roots by the cancellation-free quadratic formula."""
+    alpha = 0.25 * (y0 + y1 + y2 + y3)
+    beta = (-1.5 * y0 - 0.5 * y1 + 0.5 * y2 + 1.5 * y3) / 5.0
+    gamma = 0.25 * (y0 - y1 - y2 + y3)
+    c = alpha - 1.25 * gamma  # gamma t^2 + beta t + c
+    if gamma == 0.0:
+        roots = (-c / beta,) if beta != 0.0 else ()
+    else:
+        disc = beta * beta - 4.0 * gamma * c
+        if disc < 0.0:
+            return None
+        q = -0.5 * (beta + math.copysign(math.sqrt(disc), beta))
+        roots = (q / gamma, c / q) if q != 0.0 else (0.0,)
+    best = None
+    for t in roots:
+        s = t + 3.5
+        if -0.25 < s < 1.5 and (best is None or abs(s - 0.5) < abs(best - 0.5)):
+            best = s
+    return best
 
 
 def _edge(x0, dx, gap_out, p_in, free):
@@ -40,14 +80,9 @@ def _edge(x0, dx, gap_out, p_in, free):
     gap_out[i]: gap at the i-th node outside (i = 1, 2, ...; index 0 unused), `free` of them
     available before another contact; p_in = (p at last node, p at the one before)."""
     if free >= 5:
-        s = np.arange(2, 6, dtype=float)
-        y = np.maximum(gap_out[2:6], 0.0) ** (2.0 / 3.0)
-        c = np.polyfit(s, y, 2)
-        roots = np.roots(c)
-        roots = roots[np.isreal(roots)].real
-        roots = roots[(roots > -0.25) & (roots < 1.5)]
-        if roots.size:
-            return float(roots[np.argmin(np.abs(roots - 0.5))])
+        root = _quadratic_fit_root(*(max(float(g), 0.0) ** (2.0 / 3.0) for g in gap_out[2:6]))
+        if root is not None:
+            return root
     if free >= 3:
         y1, y2 = (max(g, 0.0) ** (2.0 / 3.0) for g in gap_out[1:3])
         if y2 > y1:

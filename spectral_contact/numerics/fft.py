@@ -113,8 +113,14 @@ def _cache() -> dict:
 
 def get_rfft(shape, threads: int = 1) -> RealFFT:
     """This thread's plan pair for ``shape`` (planned on first use)."""
-    key = (_shape(shape), int(threads), _PLANNER_EFFORT)
     cache = _cache()
+    try:  # fast path (once per matrix-vector product): shape already a tuple of ints
+        plan = cache.get((shape, threads, _PLANNER_EFFORT))
+    except TypeError:  # unhashable shape (a list)
+        plan = None
+    if plan is not None:
+        return plan
+    key = (_shape(shape), int(threads), _PLANNER_EFFORT)
     plan = cache.get(key)
     if plan is None:
         plan = cache[key] = RealFFT(key[0], key[2], key[1])

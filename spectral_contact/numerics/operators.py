@@ -69,7 +69,10 @@ class FourierOperator:
             inv = np.zeros(self.grid.kshape, dtype=complex)
             hi = ~low
             inv[hi] = 1.0 / self.symbol[hi]
-            clipped = np.broadcast_to(self._evaluate(np.full(self.grid.kshape, k_cut)), self.grid.kshape)
+            # the symbol at |k| = k_cut in every direction: |k| as one broadcast value (the
+            # film's transfer functions once, not once per mode)
+            kc = np.full((1,) * self.grid.ndim, float(k_cut))
+            clipped = np.broadcast_to(self._evaluate(kc), self.grid.kshape)
             inv[low] = 1.0 / clipped[low]
             if len(self._preconditioners) > 32:  # bounded: cut-offs follow the contact width
                 self._preconditioners.clear()

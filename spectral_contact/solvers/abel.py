@@ -70,20 +70,21 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import j0, j1
 
 from ..errors import ConvergenceError, InputError
 from ..numerics.abel_kernels import (
     KMAX_M,
     KMAX_Z,
     aposteriori_kernels,
+    bessel_on_rule,
+    cos_sin_sums,
+    film_on_rule,
     gauss_legendre,
     k_rule,
     legendre_log_weights,
     m_kernels,
 )
 from ..physics.scene import Scene, check_tol
-from ..physics.transfer import transfer_functions
 from ..result import ContactResult
 from .base import Method, check_grid_points, register
 
@@ -110,7 +111,17 @@ class _Abel:
     w: np.ndarray
     phi: np.ndarray
     psi: np.ndarray
-    cond: float
+    system: np.ndarray  # the Nystrom matrix, sqrt(weight)-symmetrised (for the condition number)
+    bessel: tuple       # (J0(k t), J1(k t)) on the kernels' k rule (reused a posteriori)
+
+    @property
+    def cond(self) -> float:
+        """2-norm condition number of the discretised operator (computed on first use: only
+        the accepted solution's is reported)."""
+        c = getattr(self, "_cond", None)
+        if c is None:
+            c = self._cond = float(np.linalg.cond(self.system))
+        return c
 
     @property
     def load(self) -> float:
@@ -118,21 +129,35 @@ class _Abel:
 
     # --- interpolation of phi(t)/t and psi(t)/t (even analytic functions) ----------------------
     def _coeffs(self):
+        """Legendre coefficients (rows) of phi/t and psi/t on [0, a], shape (2, n)."""
         if not hasattr(self, "_c"):
             n = self.t.size
             s = 2.0 * self.t / self.a - 1.0
             ws = 2.0 * self.w / self.a
             P = np.polynomial.legendre.legvander(s, n - 1)
             proj = (P * ws[:, None]).T * ((2.0 * np.arange(n) + 1.0) / 2.0)[:, None]
-            self._c = (proj @ (self.phi / self.t), proj @ (self.psi / self.t))
+            self._c = np.stack([proj @ (self.phi / self.t), proj @ (self.psi / self.t)])
         return self._c
+
+    def _series(self, z):
+        """(phi/t, psi/t) at points z of [-1, 1] (t = a (z + 1) / 2), shape (2, z.size): the
+        Legendre Vandermonde rows by the three-term recurrence, then one matrix product."""
+        n = self.t.size
+        V = np.empty((n, z.size))
+        V[0] = 1.0
+        if n > 1:
+            V[1] = z
+        for i in range(2, n):
+            np.multiply(V[i - 1], z, out=V[i])
+            V[i] *= (2.0 * i - 1.0) / i
+            V[i] -= ((i - 1.0) / i) * V[i - 2]
+        return self._coeffs() @ V
 
     def interp(self, tq):
         """(phi(tq), psi(tq)) by Legendre interpolation of phi/t, psi/t on [0, a]."""
-        cphi, cpsi = self._coeffs()
-        s = 2.0 * np.asarray(tq) / self.a - 1.0
-        leg = np.polynomial.legendre.legval
-        return tq * leg(s, cphi), tq * leg(s, cpsi)
+        tq = np.asarray(tq, dtype=float)
+        vals = self._series((2.0 * tq / self.a - 1.0).ravel())
+        return tq * vals[0].reshape(tq.shape), tq * vals[1].reshape(tq.shape)
 
     # --- fields --------------------------------------------------------------------------------
     def pressure(self, xp):
@@ -148,10 +173,8 @@ class _Abel:
         S = np.sqrt(np.maximum(self.a**2 - xi**2, 0.0))
         s = S[:, None] * u[None, :]
         tq = np.sqrt(xi[:, None] ** 2 + s**2)
-        cphi, cpsi = self._coeffs()
-        leg = np.polynomial.legendre.legval
-        z = 2.0 * tq / self.a - 1.0
-        integrand = leg(z, cphi) + xi[:, None] * leg(z, cpsi)
+        vals = self._series((2.0 * tq / self.a - 1.0).ravel())
+        integrand = vals[0].reshape(xi.size, m) + xi[:, None] * vals[1].reshape(xi.size, m)
         p[inside] = -S * (integrand @ wu)
         return p
 
@@ -168,27 +191,22 @@ class _Abel:
         """sigma_zz(x, 0), sigma_xz(x, 0) at paper-frame xp (paper's Z1..Z6 formulas)."""
         xp = np.atleast_1d(np.asarray(xp, float))
         tf, wf, phif, psif = self.fine()
-        k, wk = k_rule(KMAX_Z, float(np.max(np.abs(xp), initial=0.0)) + self.a)
-        _, _, A_, B_, C_ = transfer_functions(k)
-        kt = np.outer(k, tf)
-        c = j0(kt) @ (wf * phif)
-        s = j1(kt) @ (wf * tf * psif) if with_psi else np.zeros_like(k)
+        rule = k_rule(KMAX_Z, float(np.max(np.abs(xp), initial=0.0)) + self.a)
+        k, wk = rule
+        _, _, A_, B_, C_ = film_on_rule(rule)
+        c, s = bessel_on_rule(tf, rule, wf * phif, wf * tf * psif)
+        if not with_psi:
+            s = np.zeros_like(k)
         mu = mu_base
-        szz = np.empty_like(xp)
-        sxz = np.empty_like(xp)
         gc_zz, gs_zz = wk * (A_ * c - mu * B_ * s), wk * (A_ * s + mu * B_ * c)
         gc_xz, gs_xz = wk * (-mu * C_ * c + B_ * s), -wk * (B_ * c + mu * C_ * s)
-        for lo in range(0, xp.size, 512):  # bounded memory
-            kx = np.outer(xp[lo:lo + 512], k)
-            cx, sx = np.cos(kx), np.sin(kx)
-            szz[lo:lo + 512] = cx @ gc_zz + sx @ gs_zz
-            sxz[lo:lo + 512] = cx @ gc_xz + sx @ gs_xz
+        szz, sxz = cos_sin_sums(xp, rule, [(gc_zz, gs_zz), (gc_xz, gs_xz)])
         return szz, sxz
 
     def aposteriori(self):
         """(x0, 1/alpha) from the paper's two a-posteriori equations."""
         t, w, phi, psi, mu = self.t, self.w, self.phi, self.psi, self.mu
-        K = aposteriori_kernels(t, k_rule(KMAX_M, 2.0 * self.a))
+        K = aposteriori_kernels(t, k_rule(KMAX_M, 2.0 * self.a), self.bessel)
         x0 = 0.25 * (mu * (w @ (phi * K["K_F1J0"])) - w @ psi
                      - w @ (t * psi * K["K_F0m1J1"]))
         W = legendre_log_weights(t.size)
@@ -199,31 +217,53 @@ class _Abel:
                      - mu * (w @ (t * psi * K["K_F1J1_2k"])))
         return float(x0), float(inv_alpha)
 
-    def peak(self):
-        """(max p, its paper-frame abscissa), refined by golden-section search."""
-        xs = np.linspace(-self.a, self.a, 257)[1:-1]
-        ps = self.pressure(xs)
-        i = int(np.argmax(ps))
-        lo, hi = xs[max(i - 1, 0)], xs[min(i + 1, xs.size - 1)]
-        g = (math.sqrt(5.0) - 1.0) / 2.0
-        c, d = hi - g * (hi - lo), lo + g * (hi - lo)
-        fc, fd = self.pressure([c])[0], self.pressure([d])[0]
-        while hi - lo > 1e-9 * self.a:
-            if fc > fd:
-                hi, d, fd = d, c, fc
-                c = hi - g * (hi - lo)
-                fc = self.pressure([c])[0]
-            else:
-                lo, c, fc = c, d, fd
-                d = lo + g * (hi - lo)
-                fd = self.pressure([d])[0]
-        xm = 0.5 * (lo + hi)
+    def _vertex_steps(self, x: float, steps: int = 6):
+        """Newton steps on p'(x) = 0 by parabolas through x and x +- 1e-5 a (vertex error
+        ~ (p_xxx / p_xx) h^2 / 6 ~ 1e-11 a, about what p's round-off allows); None if p is not
+        concave there or a step leaves the contact."""
+        h = 1e-5 * self.a
+        for _ in range(steps):
+            pm_, p0, pp = self.pressure([x - h, x, x + h])
+            den = pm_ - 2.0 * p0 + pp
+            if not den < 0.0:
+                return None
+            step = 0.5 * h * (pm_ - pp) / den
+            x = x + step
+            if not abs(x) < self.a - h:
+                return None
+            if abs(step) <= 1e-10 * self.a:
+                return x
+        return x
+
+    def peak(self, near: float | None = None):
+        """(max p, its paper-frame abscissa): from ``near`` (where a previous solve found the
+        peak), or from the vertex of the parabola through the largest of 255 nodes across the
+        contact and its neighbours, Newton steps by parabolas of spacing 1e-5 a: x_max to
+        ~1e-10 a (a bracket search alone stops at ~sqrt(eps) a, where p is flat to round-off).
+        Falls back to the 255 nodes if the steps from ``near`` fail."""
+        xm = None
+        if near is not None and abs(near) < self.a:
+            xm = self._vertex_steps(float(near))
+        if xm is None:
+            xs = np.linspace(-self.a, self.a, 257)[1:-1]
+            ps = self.pressure(xs)
+            i = int(np.argmax(ps))
+            xm = float(xs[i])
+            if 0 < i < xs.size - 1:
+                den = ps[i - 1] - 2.0 * ps[i] + ps[i + 1]
+                if den < 0.0:
+                    xm += 0.5 * (xs[1] - xs[0]) * (ps[i - 1] - ps[i + 1]) / den
+                refined = self._vertex_steps(xm)
+                if refined is not None:
+                    xm = refined
         return float(self.pressure([xm])[0]), float(xm)
 
 
 def _nystrom(a: float, mu: float, n: int) -> _Abel:
     t, w = gauss_legendre(n, 0.0, a)
-    M00, M01, M10, M11 = m_kernels(t, t, k_rule(KMAX_M, 2.0 * a))
+    rule = k_rule(KMAX_M, 2.0 * a)
+    bessel = bessel_on_rule(t, rule)
+    M00, M01, M10, M11 = m_kernels(t, t, rule, bessel)
     Amat = np.eye(2 * n)
     Amat[:n, :n] += M00 * w
     Amat[:n, n:] += mu * M10 * w
@@ -232,8 +272,8 @@ def _nystrom(a: float, mu: float, n: int) -> _Abel:
     rhs = np.concatenate([-4.0 * t, np.zeros(n)])
     sol = np.linalg.solve(Amat, rhs)
     sw = np.sqrt(np.concatenate([w, w]))
-    cond = float(np.linalg.cond(Amat * sw[:, None] / sw[None, :]))
-    return _Abel(a=a, mu=mu, t=t, w=w, phi=sol[:n], psi=sol[n:], cond=cond)
+    return _Abel(a=a, mu=mu, t=t, w=w, phi=sol[:n], psi=sol[n:],
+                 system=Amat * sw[:, None] / sw[None, :], bessel=bessel)
 
 
 def _solve_load(P: float, mu: float, n, a_guess: float, rtol: float = LOAD_RTOL,
@@ -324,12 +364,13 @@ class _Solved:
     residual: float
 
 
-def _solve_once(P, mu, n, a_guess, tally: list | None = None):
+def _solve_once(P, mu, n, a_guess, tally: list | None = None, near: float | None = None):
+    """One load-matched solve; ``near``: where a previous solve found the pressure peak."""
     sol, it, res = _solve_load(P, mu, n, a_guess)
     if tally is not None:
         tally.append(it)
     x0, ia = sol.aposteriori()
-    pm, xm = sol.peak()
+    pm, xm = sol.peak(near)
     return _Solved(sol, x0, ia, pm, xm, it, res)
 
 
@@ -422,14 +463,14 @@ def solve_abel(scene: Scene, model: str = "exact", tol: float = 1e-4, n_nodes: i
         n = n_nodes
         n_small = _smaller(n)
         fine = _solve_once(P, mu_solve, n, a_start, root_iterations)
-        coarse = _solve_once(P, mu_solve, n_small, fine.sol.a, root_iterations)
+        coarse = _solve_once(P, mu_solve, n_small, fine.sol.a, root_iterations, fine.xmax)
         err = _change(fine, coarse)
     else:
         n = _default_nodes(a_start, tol)
         n_small = _smaller(n)
         coarse = _solve_once(P, mu_solve, n_small, a_start, root_iterations)
         while True:
-            fine = _solve_once(P, mu_solve, n, coarse.sol.a, root_iterations)
+            fine = _solve_once(P, mu_solve, n, coarse.sol.a, root_iterations, coarse.xmax)
             err = _change(fine, coarse)
             if err <= tol or n >= N_MAX:
                 break
