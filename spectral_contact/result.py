@@ -21,7 +21,7 @@ half-width) and inner ones (GMRES matrix-vector products, or Nystrom solves), su
 level of the resolution control."""
 
 JSON_KEYS = (
-    "model", "method", "load_N_per_m", "mu", "young_Pa", "radius_m", "thickness_m",
+    "model", "method", "load_N_per_m", "mu", "young_Pa", "poisson", "radius_m", "thickness_m",
     "half_width_m", "contact_center_m", "x0_m", "indentation_m", "max_pressure_Pa",
     "max_pressure_x_m", "grid_points", "domain_length_m", "iterations", "residual",
     "error_estimate", "wall_time_s", "plan_time_s",
@@ -33,7 +33,8 @@ PROFILE_COLUMNS = ("x_m", "pressure_Pa", "surface_shear_Pa", "base_sigma_zz_Pa",
 class ContactResult:
     """Solution of one scene.
 
-    Dimensionless fields (lengths in h, displacements in h^2/2R, stresses in E h/6R):
+    Dimensionless fields (lengths in h, displacements in h^2/2R, stresses in G h/2R = E h/6R
+    at nu = 1/2; ``physics.scene``):
 
     x : ndarray            profile abscissae, apex frame
     pressure : ndarray     p(x) >= 0, the contact pressure (= -sigma_zz(x, h))
@@ -125,6 +126,7 @@ class ContactResult:
             "load_N_per_m": s.load,
             "mu": s.mu,
             "young_Pa": s.young,
+            "poisson": s.poisson,
             "radius_m": s.radius,
             "thickness_m": s.thickness,
             "half_width_m": float(self.half_width * L),

@@ -33,6 +33,9 @@ def _add_scene_options(p):
     p.add_argument("--young", type=float, default=d.young, help=f"E [Pa] (default {d.young:g})")
     p.add_argument("--radius", type=float, default=d.radius, help=f"R [m] (default {d.radius:g})")
     p.add_argument("--thickness", type=float, default=d.thickness, help=f"h [m] (default {d.thickness:g})")
+    p.add_argument("--poisson", type=float, default=d.poisson,
+                   help=f"nu, the film's Poisson ratio in [0, 0.5] (default {d.poisson:g}: "
+                        "incompressible; < 0.5 needs --method fft)")
 
 
 def _summary_text(r) -> str:
@@ -43,7 +46,8 @@ def _summary_text(r) -> str:
     mm, kPa = 1e3, 1e-3
     lines = [
         f"{s['model']} model, {s['method']} method: P_L = {s['load_N_per_m']:g} N/m, mu_d = {s['mu']:g}, "
-        f"E = {s['young_Pa'] / 1e6:g} MPa, R = {s['radius_m'] * mm:g} mm, h = {s['thickness_m'] * mm:g} mm",
+        f"E = {s['young_Pa'] / 1e6:g} MPa, R = {s['radius_m'] * mm:g} mm, h = {s['thickness_m'] * mm:g} mm"
+        + (f", nu = {s['poisson']:g}" if s["poisson"] != 0.5 else ""),
         f"  contact half-width a     {s['half_width_m'] * mm:10.5f} mm",
         f"  contact centre (apex=0)  {s['contact_center_m'] * mm:10.5f} mm   (paper's x0 = {s['x0_m'] * mm:.5f} mm)",
         f"  indentation              {s['indentation_m'] * 1e6:10.5f} um",
@@ -74,7 +78,7 @@ def _cmd_solve(args) -> int:
     from .files import check_plot_path, to_json, write_csv
 
     scene = Scene(load=args.load, mu=args.mu, young=args.young, radius=args.radius,
-                  thickness=args.thickness)
+                  thickness=args.thickness, poisson=args.poisson)
     if args.plot:
         check_plot_path(args.plot)
     r = solve(scene, model=args.model, method=args.method, tol=args.tol,

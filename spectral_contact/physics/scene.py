@@ -4,10 +4,14 @@ Dimensionless core (the paper's, section "Exact model"):
 
 * lengths in h (film thickness),
 * displacements in h^2 / (2R),
-* stresses in E h / (6R)  (= G h / (2R), G = E/3 the shear modulus of the incompressible film),
-* lineic load P = P_L * 6R / (E h^2).
+* stresses in G h / (2R), G the film's shear modulus: G = E/3 for the incompressible film
+  (nu = 1/2, the paper's E h / (6R)), G = E / (2(1 + nu)) in general,
+* lineic load P = P_L * 2R / (G h^2) (= P_L 6R / (E h^2) at nu = 1/2).
 
-In these units the indenter profile is x^2 and the Hertz half-space pressure is 4 sqrt(a^2 - x^2).
+In these units the indenter profile is x^2 and the Hertz half-space pressure is 4 sqrt(a^2 - x^2)
+at nu = 1/2 (2/(1 - nu) sqrt(a^2 - x^2) in general, E* = 2G/(1 - nu)).  Keeping G (not E) in the
+unit keeps the film's symbols free of nu at nu = 1/2 and O(1) for every nu: the compressible
+film of the same E is stiffer in shear by 3/(2(1 + nu)) and its stress unit follows.
 """
 from __future__ import annotations
 
@@ -16,7 +20,7 @@ from dataclasses import dataclass
 
 from ..errors import InputError
 
-__all__ = ["Scene", "PAPER_SCENE", "check_finite", "check_positive", "check_tol"]
+__all__ = ["Scene", "PAPER_SCENE", "check_finite", "check_positive", "check_tol", "check_poisson"]
 
 
 def check_finite(name: str, value, accepted: str) -> float:
@@ -36,6 +40,14 @@ def check_positive(name: str, value, unit: str) -> float:
     return v
 
 
+def check_poisson(nu) -> float:
+    """A Poisson ratio in [0, 0.5] (0.5: incompressible)."""
+    v = check_finite("poisson (nu)", nu, "in [0, 0.5]")
+    if not 0.0 <= v <= 0.5:
+        raise InputError(f"poisson (nu) must be in [0, 0.5]; got {v}")
+    return v
+
+
 def check_tol(tol) -> float:
     """A relative accuracy target: a number in (0, 0.1)."""
     try:
@@ -49,7 +61,8 @@ def check_tol(tol) -> float:
 
 @dataclass(frozen=True)
 class Scene:
-    """A rigid cylinder sliding on an incompressible elastic film bonded to a rigid base.
+    """A rigid cylinder sliding on an elastic film (incompressible by default) bonded to a rigid
+    base.
 
     Parameters (SI)
     ---------------
@@ -60,11 +73,14 @@ class Scene:
         toward +x and drags the film surface toward +x (sigma_xz(x, h) = mu * p(x)); mu < 0 means
         sliding toward -x.
     young : float
-        E, Young's modulus of the film [Pa] (Poisson ratio 1/2: incompressible).
+        E, Young's modulus of the film [Pa].
     radius : float
         R, cylinder radius [m].
     thickness : float
         h, film thickness [m].
+    poisson : float
+        nu, the film's Poisson ratio, in [0, 0.5] (default 0.5: incompressible, the paper's
+        assumption).  The shear modulus is G = E / (2(1 + nu)).
     """
 
     load: float = 200.0
@@ -72,8 +88,10 @@ class Scene:
     young: float = 2.2e6
     radius: float = 0.130
     thickness: float = 0.002
+    poisson: float = 0.5
 
     def __post_init__(self):
+        object.__setattr__(self, "poisson", check_poisson(self.poisson))
         object.__setattr__(self, "young", check_positive("young (E)", self.young, "Pa"))
         object.__setattr__(self, "radius", check_positive("radius (R)", self.radius, "m"))
         object.__setattr__(self, "thickness", check_positive("thickness (h)", self.thickness, "m"))
@@ -95,13 +113,22 @@ class Scene:
         return self.thickness**2 / (2.0 * self.radius)
 
     @property
+    def shear_modulus(self) -> float:
+        """G = E / (2(1 + nu)) [Pa] (E/3 at nu = 1/2)."""
+        if self.poisson == 0.5:
+            return self.young / 3.0
+        return self.young / (2.0 * (1.0 + self.poisson))
+
+    @property
     def stress_unit(self) -> float:
-        """E h / (6R) [Pa]."""
-        return self.young * self.thickness / (6.0 * self.radius)
+        """G h / (2R) [Pa] (written E h / (6R) at nu = 1/2, as before: bit-identical)."""
+        if self.poisson == 0.5:
+            return self.young * self.thickness / (6.0 * self.radius)
+        return self.shear_modulus * self.thickness / (2.0 * self.radius)
 
     @property
     def P(self) -> float:
-        """Dimensionless lineic load P = P_L 6R / (E h^2)."""
+        """Dimensionless lineic load P = P_L 2R / (G h^2) (= P_L 6R / (E h^2) at nu = 1/2)."""
         return self.load / (self.stress_unit * self.length_unit)
 
     def with_(self, **changes) -> Scene:

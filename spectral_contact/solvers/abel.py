@@ -506,4 +506,7 @@ class AbelMethod(Method):
             raise InputError("domain_length applies to method fft only (method abel needs no domain)")
 
     def solve(self, scene: Scene, model: str) -> ContactResult:
+        if scene.poisson != 0.5:
+            raise InputError(f"method abel is for the incompressible film (poisson 0.5) only; got "
+                             f"poisson {scene.poisson:g}: use method fft")
         return solve_abel(scene, self.check_model(model), self.tol, self.grid_points)

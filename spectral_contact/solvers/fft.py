@@ -104,7 +104,8 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     plans0 = _plans_time()
     P = scene.P
     mu_contact = scene.mu if model == "exact" else 0.0
-    margin = Film().domain_margin(tol)  # images ~ tol/100 x O(1)
+    film = Film(poisson=scene.poisson)  # lengths in h: thickness 1
+    margin = film.domain_margin(tol)  # images ~ tol/100 x O(1)
     # residual (relative displacement / pressure / load) accepted from each contact solve:
     # far below tol, but not below what round-off allows for very wide contacts
     accept = max(1e-8, 1e-2 * tol)
@@ -127,6 +128,12 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     #    (P = 2 pi a^2) and the thin-layer width (w = -p''/3: P = 4 a^5 / 15) bound the film's
     #    half-width from above (studies/stability); the smaller one sizes the first grid.
     a_bound = min(math.sqrt(P / (2 * math.pi)), (3.75 * P) ** 0.2)
+    if not film.incompressible:
+        # compressible: Hertz with E* = 2G/(1 - nu) (P = pi a^2/(1 - nu)); a thin compressible
+        # layer is a Winkler foundation of compliance H(0) (P = 4 a^3 / (3 H(0))), wider than
+        # the incompressible thin layer: the larger of the two thin-layer widths
+        a_bound = min(math.sqrt(P * (1.0 - scene.poisson) / math.pi),
+                      max((3.75 * P) ** 0.2, (0.75 * film.uniform_compliance * P) ** (1.0 / 3.0)))
     L0 = domain_length or (4.0 * a_bound + margin)
     n0 = grid_points // 4 if grid_points else pow2_at_least(L0 / (2 * a_bound / _FIRST_ACROSS), MIN_POINTS)
     n0 = max(MIN_POINTS, n0)
@@ -134,7 +141,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         raise InputError(
             f"the contact (half-width <= {a_bound:.2g} h) is too small for the FFT method's periodic "
             f"grid (~{n0:.1e} points > 2^22): use model hertz or method abel")
-    sol = solve_contact(Grid.centered(n0, L0), mu_contact, indenter, accept=accept)
+    sol = solve_contact(Grid.centered(n0, L0), mu_contact, indenter, film=film, accept=accept)
     fft_pairs += sol.fft_pairs
     krylov += sol.krylov_iterations
     outer += sol.iterations
@@ -167,9 +174,9 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         else:
             lo, hi = min(e[0] for e in qprev["edges"]), max(e[1] for e in qprev["edges"])
             p_init = np.where((g.x > lo) & (g.x < hi), np.maximum(_refine(prev.pressure), 1e-12), 0.0)
-        cur = solve_contact(g, mu_contact, indenter, p_init=p_init, accept=accept)
+        cur = solve_contact(g, mu_contact, indenter, film=film, p_init=p_init, accept=accept)
         shifted = solve_contact(Grid.centered(n, L, center + 0.5 * g.dx), mu_contact, indenter,
-                                p_init=0.5 * (cur.pressure + np.roll(cur.pressure, -1)),
+                                film=film, p_init=0.5 * (cur.pressure + np.roll(cur.pressure, -1)),
                                 accept=accept)
         for s_ in (cur, shifted):
             fft_pairs += s_.fft_pairs
@@ -199,7 +206,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
 
     sol, q = cur, qcur
     p = sol.pressure
-    szz, (sxz,) = Film().base_stresses(get_rfft(sol.grid.shape), sol.grid, -p, (scene.mu * p,))
+    szz, (sxz,) = film.base_stresses(get_rfft(sol.grid.shape), sol.grid, -p, (scene.mu * p,))
     fft_pairs += 2
     total = time.perf_counter() - t0
     plan_time = _plans_time() - plans0
@@ -212,6 +219,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         "residuals": sol.residuals,
         "edges": q["edges"],
         "domain_margin": margin,
+        "poisson": scene.poisson,
     }
     return ContactResult(
         scene=scene, model=model, method="fft", x=sol.grid.x, pressure=p,

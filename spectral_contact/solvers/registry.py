@@ -34,11 +34,20 @@ def solve_scene(scene: Scene, model: str, method: str, tol: float, grid_points=N
     if not isinstance(model, str) or model not in MODELS:
         raise InputError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
     solver = make_method(method, tol, grid_points, domain_length)
+    if scene.poisson != 0.5 and model == "hertz":
+        raise InputError(f"model hertz is the incompressible half-space (poisson 0.5) only; got "
+                         f"poisson {scene.poisson:g}: use model exact or goodman")
     if model == "hertz":  # closed form, whatever the method
         return solve_hertz(scene, tol=solver.tol, grid_points=grid_points, domain_length=domain_length)
     if model != "auto":
         return solver.solve(scene, model)
     s = hertz_half_width(scene.P)
+    if scene.poisson != 0.5:  # the bounds were fitted on incompressible films only
+        r = solver.solve(scene, "exact")
+        r.info.update({"auto": "exact", "auto_reason": f"exact: poisson {scene.poisson:g} < 0.5, "
+                       "outside the validated map (the fitted bounds are for nu = 0.5)",
+                       "auto_bounds": {}, "auto_provenance": PROVENANCE})
+        return r
     chosen, reason, bounds = choose_model(s, scene.mu, solver.tol)
     if chosen == "hertz":
         r = solve_hertz(scene, tol=solver.tol, grid_points=grid_points, domain_length=domain_length)
