@@ -23,7 +23,7 @@ level of the resolution control."""
 JSON_KEYS = (
     "model", "method", "load_N_per_m", "mu", "young_Pa", "poisson", "radius_m", "thickness_m",
     "half_width_m", "contact_center_m", "x0_m", "indentation_m", "max_pressure_Pa",
-    "max_pressure_x_m", "grid_points", "domain_length_m", "iterations", "residual",
+    "max_pressure_x_m", "friction_law", "Q_over_P", "grid_points", "domain_length_m", "iterations", "residual",
     "error_estimate", "wall_time_s", "plan_time_s",
 )
 PROFILE_COLUMNS = ("x_m", "pressure_Pa", "surface_shear_Pa", "base_sigma_zz_Pa", "base_sigma_xz_Pa")
@@ -73,12 +73,23 @@ class ContactResult:
     plan_time_s: float = 0.0
     info: dict = field(default_factory=dict)
     counters: dict = field(default_factory=lambda: dict.fromkeys(COUNTER_KEYS, 0))
+    shear: np.ndarray | None = None  # the surface shear q(x) when it is not mu_d p (friction laws)
 
     # --- SI views -----------------------------------------------------------------------------
     @property
     def surface_shear(self) -> np.ndarray:
-        """sigma_xz(x, h) = mu_d p(x) (Amontons), dimensionless."""
+        """sigma_xz(x, h): mu_d p(x) (Amontons) or the friction law's q(x), dimensionless."""
+        if self.shear is not None:
+            return self.shear
         return self.scene.mu * self.pressure
+
+    @property
+    def friction_ratio(self) -> float:
+        """The macroscopic Q/P = Int q dx / Int p dx (mu_d for Amontons; 0 without contact)."""
+        if self.shear is None:
+            return float(self.scene.mu)
+        P = float(np.sum(self.pressure))
+        return float(np.sum(self.shear)) / P if P > 0 else 0.0
 
     @property
     def x0(self) -> float:
@@ -135,6 +146,8 @@ class ContactResult:
             "indentation_m": float(self.indentation * s.displacement_unit),
             "max_pressure_Pa": float(self.max_pressure * s.stress_unit),
             "max_pressure_x_m": float(self.max_pressure_x * L),
+        } | s.friction.describe() | {
+            "Q_over_P": self.friction_ratio,
             "grid_points": int(self.grid_points),
             "domain_length_m": float(self.domain_length * L),
             "iterations": int(self.iterations),

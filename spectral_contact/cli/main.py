@@ -36,6 +36,15 @@ def _add_scene_options(p):
     p.add_argument("--poisson", type=float, default=d.poisson,
                    help=f"nu, the film's Poisson ratio in [0, 0.5] (default {d.poisson:g}: "
                         "incompressible; < 0.5 needs --method fft)")
+    p.add_argument("--friction-law", choices=("amontons", "power", "linear"), default="amontons",
+                   help="amontons: q = mu p (default); power: q = mu (p/p_ref)^-n p; "
+                        "linear: q = tau_0 + alpha p in the contact (--method fft)")
+    p.add_argument("--friction-exponent", type=float, default=None,
+                   help="n of the power law, in [0, 1) (default 0)")
+    p.add_argument("--friction-pref", type=float, default=None, help="p_ref of the power law [Pa], > 0")
+    p.add_argument("--shear-strength", type=float, default=None,
+                   help="tau_0 of the linear law [Pa] (same sign as --shear-slope)")
+    p.add_argument("--shear-slope", type=float, default=None, help="alpha of the linear law")
 
 
 def _summary_text(r) -> str:
@@ -60,6 +69,8 @@ def _summary_text(r) -> str:
         j = int(np.argmax(np.abs(r.base_sigma_xz_Pa)))
         for name, field, m in (("zz", r.base_sigma_zz_Pa, i), ("xz", r.base_sigma_xz_Pa, j)):
             lines.append(f"  peak base sigma_{name}       {field[m] * kPa:10.4f} kPa at x = {r.x_m[m] * mm:.4f} mm")
+    if s["friction_law"] != "amontons":
+        lines.append(f"  friction law {s['friction_law']}: Q/P = {s['Q_over_P']:.5f}")
     if "auto_reason" in r.info:
         lines.append(f"  auto: {r.info['auto_reason']}")
     grid = (f"{s['grid_points']} Nystrom nodes, profiles over {s['domain_length_m'] * mm:.2f} mm"
@@ -78,7 +89,9 @@ def _cmd_solve(args) -> int:
     from .files import check_plot_path, to_json, write_csv
 
     scene = Scene(load=args.load, mu=args.mu, young=args.young, radius=args.radius,
-                  thickness=args.thickness, poisson=args.poisson)
+                  thickness=args.thickness, poisson=args.poisson, friction_law=args.friction_law,
+                  friction_exponent=args.friction_exponent, friction_pref=args.friction_pref,
+                  shear_strength=args.shear_strength, shear_slope=args.shear_slope)
     if args.plot:
         check_plot_path(args.plot)
     r = solve(scene, model=args.model, method=args.method, tol=args.tol,

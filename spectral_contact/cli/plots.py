@@ -23,7 +23,7 @@ def plot_result(result, path, sensor: dict | None = None, window: float = 4.0):
     fig, axes = plt.subplots(nrow, 1, figsize=(7, 2.6 * nrow), sharex=True)
     ax = axes[0]
     ax.plot(x[sel], result.pressure_Pa[sel] / 1e3, label="pressure p = -sigma_zz(x, h)")
-    ax.plot(x[sel], result.surface_shear_Pa[sel] / 1e3, "--", label="shear sigma_xz(x, h) = mu p")
+    ax.plot(x[sel], result.surface_shear_Pa[sel] / 1e3, "--", label="shear sigma_xz(x, h)")
     ax.set_ylabel("surface stress [kPa]")
     ax.set_title(f"{result.model} model ({result.method}): P_L = {s.load:g} N/m, mu_d = {s.mu:g}, "
                  f"E = {s.young / 1e6:g} MPa, R = {s.radius * 1e3:g} mm, h = {s.thickness * 1e3:g} mm",

@@ -123,6 +123,26 @@ class Film:
         H = (F0 + 1j * mu * e_n * F1) / (2.0 * safe)
         return np.where(kmag > 0, H, 0.0 if self.incompressible else self.uniform_compliance)
 
+    def shear_compliance(self, direction, kmag, slide=(1.0, 0.0)):
+        """The sinking per unit surface shear along e = ``slide``: i (e . n) F1 / (2|k|), 0 at
+        k = 0, so that w^ = surface_compliance(mu = 0) p^ + shear_compliance q^ for any shear
+        field q along e (Amontons: q = mu p gives back ``surface_compliance(mu)``)."""
+        kmag = np.asarray(kmag, dtype=float)
+        K = kmag * self.thickness
+        if self.incompressible:
+            _, F1, *_ = transfer_functions(K)
+        else:
+            _, F1, *_ = compressible_transfer_functions(K, self.poisson)
+        e_n = sum(e * n for e, n in zip(slide, direction))
+        safe = np.where(kmag > 0, kmag, 1.0)
+        return np.where(kmag > 0, 1j * e_n * F1 / (2.0 * safe), 0.0)
+
+    def shear_compliance_symbol(self, slide=(1.0, 0.0)):
+        """``shear_compliance`` as a symbol function (direction, kmag) -> H1."""
+        def symbol(direction, kmag):
+            return self.shear_compliance(direction, kmag, slide)
+        return symbol
+
     def compliance_symbol(self, mu: float = 0.0, slide=(1.0, 0.0)):
         """The surface compliance as a symbol function (direction, kmag) -> H, for
         ``numerics.operators.FourierOperator``."""

@@ -509,4 +509,7 @@ class AbelMethod(Method):
         if scene.poisson != 0.5:
             raise InputError(f"method abel is for the incompressible film (poisson 0.5) only; got "
                              f"poisson {scene.poisson:g}: use method fft")
+        if not scene.friction.is_amontons:
+            raise InputError(f"method abel solves Amontons friction only; got friction law "
+                             f"{scene.friction_law}: use method fft")
         return solve_abel(scene, self.check_model(model), self.tol, self.grid_points)

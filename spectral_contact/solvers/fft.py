@@ -27,6 +27,7 @@ from ..errors import ConvergenceError, InputError
 from ..numerics.contact import solve_contact
 from ..numerics.edges import fit_edges, peak
 from ..numerics.fft import get_rfft, plan_cache_info
+from ..numerics.friction import solve_contact_law
 from ..numerics.grid import Grid, pow2_at_least
 from ..physics.film import Film
 from ..physics.indenters import Cylinder
@@ -109,6 +110,19 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     # residual (relative displacement / pressure / load) accepted from each contact solve:
     # far below tol, but not below what round-off allows for very wide contacts
     accept = max(1e-8, 1e-2 * tol)
+    # a friction law other than Amontons: an outer fixed point around each contact solve
+    # (numerics.friction), converged to the same relative accuracy as the contact solves
+    law = scene.friction.dimensionless(scene.stress_unit, scene.mu)
+    with_law = model == "exact" and not scene.friction.is_amontons
+    law_iterations = [0]
+
+    def contact(grid, p_init=None):
+        if not with_law:
+            return solve_contact(grid, mu_contact, indenter, film=film, p_init=p_init, accept=accept)
+        s_, _, li = solve_contact_law(grid, law, indenter, film=film, p_init=p_init, accept=accept,
+                                      law_tol=accept)
+        law_iterations[0] += li["law_iterations"]
+        return s_
 
     if P == 0.0:
         L = domain_length or margin
@@ -141,7 +155,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         raise InputError(
             f"the contact (half-width <= {a_bound:.2g} h) is too small for the FFT method's periodic "
             f"grid (~{n0:.1e} points > 2^22): use model hertz or method abel")
-    sol = solve_contact(Grid.centered(n0, L0), mu_contact, indenter, film=film, accept=accept)
+    sol = contact(Grid.centered(n0, L0))
     fft_pairs += sol.fft_pairs
     krylov += sol.krylov_iterations
     outer += sol.iterations
@@ -174,10 +188,9 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         else:
             lo, hi = min(e[0] for e in qprev["edges"]), max(e[1] for e in qprev["edges"])
             p_init = np.where((g.x > lo) & (g.x < hi), np.maximum(_refine(prev.pressure), 1e-12), 0.0)
-        cur = solve_contact(g, mu_contact, indenter, film=film, p_init=p_init, accept=accept)
-        shifted = solve_contact(Grid.centered(n, L, center + 0.5 * g.dx), mu_contact, indenter,
-                                film=film, p_init=0.5 * (cur.pressure + np.roll(cur.pressure, -1)),
-                                accept=accept)
+        cur = contact(g, p_init=p_init)
+        shifted = contact(Grid.centered(n, L, center + 0.5 * g.dx),
+                          p_init=0.5 * (cur.pressure + np.roll(cur.pressure, -1)))
         for s_ in (cur, shifted):
             fft_pairs += s_.fft_pairs
             krylov += s_.krylov_iterations
@@ -206,7 +219,12 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
 
     sol, q = cur, qcur
     p = sol.pressure
-    szz, (sxz,) = film.base_stresses(get_rfft(sol.grid.shape), sol.grid, -p, (scene.mu * p,))
+    if scene.friction.is_amontons:
+        shear = None
+        szz, (sxz,) = film.base_stresses(get_rfft(sol.grid.shape), sol.grid, -p, (scene.mu * p,))
+    else:  # exact: the law's shear of the coupled solve; goodman: the law on the frictionless p
+        shear = sol.shear if with_law else law.shear(p)
+        szz, (sxz,) = film.base_stresses(get_rfft(sol.grid.shape), sol.grid, -p, (shear,))
     fft_pairs += 2
     total = time.perf_counter() - t0
     plan_time = _plans_time() - plans0
@@ -221,6 +239,8 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         "domain_margin": margin,
         "poisson": scene.poisson,
     }
+    if not scene.friction.is_amontons:
+        info["friction_law_iterations"] = law_iterations[0]
     return ContactResult(
         scene=scene, model=model, method="fft", x=sol.grid.x, pressure=p,
         base_sigma_zz=szz, base_sigma_xz=sxz, half_width=q["a"], center=q["c"],
@@ -228,7 +248,8 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         grid_points=sol.grid.n, domain_length=sol.grid.length, iterations=sol.iterations,
         residual=residual, error_estimate=est, wall_time_s=total - plan_time,
         plan_time_s=plan_time, info=info,
-        counters={"transforms": fft_pairs, "iterations": outer, "linear_iterations": krylov})
+        counters={"transforms": fft_pairs, "iterations": outer, "linear_iterations": krylov},
+        shear=shear)
 
 
 @register

@@ -37,15 +37,21 @@ def solve_scene(scene: Scene, model: str, method: str, tol: float, grid_points=N
     if scene.poisson != 0.5 and model == "hertz":
         raise InputError(f"model hertz is the incompressible half-space (poisson 0.5) only; got "
                          f"poisson {scene.poisson:g}: use model exact or goodman")
+    if not scene.friction.is_amontons and model == "hertz":
+        raise InputError(f"model hertz takes Amontons friction only; got friction law "
+                         f"{scene.friction_law}: use model exact or goodman")
     if model == "hertz":  # closed form, whatever the method
         return solve_hertz(scene, tol=solver.tol, grid_points=grid_points, domain_length=domain_length)
     if model != "auto":
         return solver.solve(scene, model)
     s = hertz_half_width(scene.P)
-    if scene.poisson != 0.5:  # the bounds were fitted on incompressible films only
+    if scene.poisson != 0.5 or not scene.friction.is_amontons:
+        # the bounds were fitted on incompressible films with Amontons friction only
+        why = (f"poisson {scene.poisson:g} < 0.5" if scene.poisson != 0.5 else
+               f"friction law {scene.friction_law}")
         r = solver.solve(scene, "exact")
-        r.info.update({"auto": "exact", "auto_reason": f"exact: poisson {scene.poisson:g} < 0.5, "
-                       "outside the validated map (the fitted bounds are for nu = 0.5)",
+        r.info.update({"auto": "exact", "auto_reason": f"exact: {why}, outside the validated map "
+                       "(the fitted bounds are for nu = 0.5 and Amontons friction)",
                        "auto_bounds": {}, "auto_provenance": PROVENANCE})
         return r
     chosen, reason, bounds = choose_model(s, scene.mu, solver.tol)
