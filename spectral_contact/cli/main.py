@@ -45,6 +45,8 @@ def _add_scene_options(p):
     p.add_argument("--shear-strength", type=float, default=None,
                    help="tau_0 of the linear law [Pa] (same sign as --shear-slope)")
     p.add_argument("--shear-slope", type=float, default=None, help="alpha of the linear law")
+    p.add_argument("--interface-compliance", type=float, default=0.0,
+                   help="C [m/Pa] >= 0: the interface closes by C p (default 0: rigid; --method fft)")
 
 
 def _summary_text(r) -> str:
@@ -91,7 +93,8 @@ def _cmd_solve(args) -> int:
     scene = Scene(load=args.load, mu=args.mu, young=args.young, radius=args.radius,
                   thickness=args.thickness, poisson=args.poisson, friction_law=args.friction_law,
                   friction_exponent=args.friction_exponent, friction_pref=args.friction_pref,
-                  shear_strength=args.shear_strength, shear_slope=args.shear_slope)
+                  shear_strength=args.shear_strength, shear_slope=args.shear_slope,
+                  interface_compliance=args.interface_compliance)
     if args.plot:
         check_plot_path(args.plot)
     r = solve(scene, model=args.model, method=args.method, tol=args.tol,

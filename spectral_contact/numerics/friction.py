@@ -23,6 +23,8 @@ tau_0 = 0) is the plain Amontons solve: bit-identical, no outer iteration.
 """
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from ..errors import ConvergenceError
@@ -58,17 +60,30 @@ def _boundary(active: np.ndarray) -> np.ndarray:
     return edge
 
 
+@lru_cache(maxsize=16)
+def _with_interface(shape: tuple, lengths: tuple, mu: float, film: Film, c: float):
+    """The film's compliance for friction mu plus the interface's c (``op + c``), cached."""
+    return compliance_operator(shape, lengths, mu, film) + c
+
+
 def solve_contact_law(grid: Grid, law: ShearLaw, indenters, *, film: Film | None = None,
-                      p_init=None, accept: float | None = None, rtol: float = 1e-10,
-                      law_tol: float = 1e-8, max_law_iterations: int = 100, depth: int = 5):
+                      interface: float = 0.0, p_init=None, accept: float | None = None,
+                      rtol: float = 1e-10, law_tol: float = 1e-8, max_law_iterations: int = 100,
+                      depth: int = 5):
     """Contact on ``grid`` under the friction law ``law`` (dimensionless, sliding toward +x).
 
-    Returns (solution, q, info): the ``ContactSolution`` (its ``sinking`` includes the shear's
-    part; ``solution.shear`` is q too), the surface shear field q and {"law_iterations",
-    "law_change"}.
+    interface : c >= 0, a linear interface compliance (dimensionless: displacement h^2/2R per
+        stress unit): the interface closes by c p, so the gap is f - d + w + c p and the
+        contact operator is H + c (``FourierOperator.__add__``).  c = 0 is the rigid interface
+        (the plain solve, bit for bit).
+
+    Returns (solution, q, info): the ``ContactSolution`` (its ``sinking`` is the film's, shear
+    part included, without the interface's closure c p; ``solution.shear`` is q too), the
+    surface shear field q and {"law_iterations", "law_change"}.
     """
     film = film or Film()
-    if law.proportional:
+    c = float(interface)
+    if law.proportional and c == 0.0:
         sol = solve_contact(grid, law.mu, indenters, film=film, p_init=p_init, accept=accept,
                             rtol=rtol)
         sol.shear = law.mu * sol.pressure
@@ -76,9 +91,17 @@ def solve_contact_law(grid: Grid, law: ShearLaw, indenters, *, film: Film | None
     f, owner, guess = _setup(grid, indenters)
     p = guess if p_init is None else np.asarray(p_init, dtype=float)
     loads = [ind.load for ind in indenters]
+    if law.proportional:
+        op = _with_interface(grid.shape, grid.lengths, float(law.mu), film, c)
+        sol = solve_complementarity(op, f, owner, loads, p_init=p, rtol=rtol, accept=accept,
+                                    grid=grid)
+        sol.sinking = sol.sinking - c * sol.pressure
+        sol.shear = law.mu * sol.pressure
+        return sol, sol.shear, {"law_iterations": 0, "law_change": 0.0}
     inside = p > 0
     m = law.slope(float(np.mean(p[inside])) if inside.any() else 1.0)
-    op = compliance_operator(grid.shape, grid.lengths, float(m), film)
+    op = (compliance_operator(grid.shape, grid.lengths, float(m), film) if c == 0.0 else
+          _with_interface(grid.shape, grid.lengths, float(m), film, c))
     H1 = FourierOperator(grid, film.shear_compliance_symbol((1.0, 0.0)[:grid.ndim]))
     s = law.shear(p) - m * p
     history_s, history_g = [], []  # Anderson: iterates and their residuals g = T(s) - s
@@ -126,7 +149,7 @@ def solve_contact_law(grid: Grid, law: ShearLaw, indenters, *, film: Film | None
             f"(relative change {change:.1e} > {law_tol:.1e})", residuals=[change],
             iterations=max_law_iterations)
     # the final state: the shear of the final pressure, and the sinking it causes
-    sinking = op.apply(p) + H1.apply(s)
+    sinking = op.apply(p) + H1.apply(s) - c * p
     sol.sinking = sinking
     sol.fft_pairs = fft_pairs + 2
     sol.krylov_iterations = krylov

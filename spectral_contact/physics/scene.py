@@ -89,6 +89,10 @@ class Scene:
         n in [0, 1) and p_ref [Pa] > 0 of the power law (mu above is its mu_d).
     shear_strength, shear_slope : float, optional
         tau_0 [Pa] and alpha of the linear law (same sign; mu is then not used by the contact).
+    interface_compliance : float
+        C [m/Pa] >= 0, a linear compliance of the film-indenter interface (a rough or soft
+        skin): the interface closes by C p, so the contact condition is f - d + w + C p = 0
+        where p > 0 (default 0: rigid interface, the paper's).
     """
 
     load: float = 200.0
@@ -102,8 +106,13 @@ class Scene:
     friction_pref: float | None = None
     shear_strength: float | None = None
     shear_slope: float | None = None
+    interface_compliance: float = 0.0
 
     def __post_init__(self):
+        c = check_finite("interface compliance (C)", self.interface_compliance, ">= 0 m/Pa")
+        if c < 0.0:
+            raise InputError(f"interface compliance (C) must be >= 0 m/Pa; got {c}")
+        object.__setattr__(self, "interface_compliance", c)
         object.__setattr__(self, "poisson", check_poisson(self.poisson))
         law = self.friction  # validates the law's parameters: one-line InputError
         if law.law == "linear" and law.shear_strength != 0.0 and self.poisson != 0.5:
@@ -152,6 +161,13 @@ class Scene:
         if self.poisson == 0.5:
             return self.young * self.thickness / (6.0 * self.radius)
         return self.shear_modulus * self.thickness / (2.0 * self.radius)
+
+    @property
+    def interface(self) -> float:
+        """The interface compliance in the core's units: C x stress unit / displacement unit."""
+        if self.interface_compliance == 0.0:
+            return 0.0
+        return self.interface_compliance * self.stress_unit / self.displacement_unit
 
     @property
     def P(self) -> float:

@@ -30,6 +30,7 @@ from ..numerics.fft import get_rfft, plan_cache_info
 from ..numerics.friction import solve_contact_law
 from ..numerics.grid import Grid, pow2_at_least
 from ..physics.film import Film
+from ..physics.friction import ShearLaw
 from ..physics.indenters import Cylinder
 from ..physics.scene import Scene, check_positive
 from ..result import ContactResult
@@ -115,12 +116,15 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     law = scene.friction.dimensionless(scene.stress_unit, scene.mu)
     with_law = model == "exact" and not scene.friction.is_amontons
     law_iterations = [0]
+    # a compliant interface (linear): the contact operator is H + c (numerics.friction)
+    c = scene.interface
 
     def contact(grid, p_init=None):
-        if not with_law:
+        if not with_law and c == 0.0:
             return solve_contact(grid, mu_contact, indenter, film=film, p_init=p_init, accept=accept)
-        s_, _, li = solve_contact_law(grid, law, indenter, film=film, p_init=p_init, accept=accept,
-                                      law_tol=accept)
+        s_, _, li = solve_contact_law(grid, law if with_law else ShearLaw("amontons", mu=mu_contact),
+                                      indenter, film=film, interface=c, p_init=p_init,
+                                      accept=accept, law_tol=accept)
         law_iterations[0] += li["law_iterations"]
         return s_
 
@@ -241,6 +245,8 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     }
     if not scene.friction.is_amontons:
         info["friction_law_iterations"] = law_iterations[0]
+    if c:
+        info["interface_compliance"] = c
     return ContactResult(
         scene=scene, model=model, method="fft", x=sol.grid.x, pressure=p,
         base_sigma_zz=szz, base_sigma_xz=sxz, half_width=q["a"], center=q["c"],
