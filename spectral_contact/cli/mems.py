@@ -20,7 +20,8 @@ from .files import check_plot_path
 __all__ = ["register", "COMPARE_JSON_KEYS", "CALIBRATE_JSON_KEYS"]
 
 COMPARE_JSON_KEYS = ("load_N_per_m", "mu", "offset_m", "chi_zz_exact", "chi_xz_exact",
-                     "chi_zz_goodman", "chi_xz_goodman", "fit_load_N_per_m", "fit_mu")
+                     "chi_zz_goodman", "chi_xz_goodman", "fit_load_N_per_m", "fit_mu", "fits",
+                     "best_model")
 CALIBRATE_JSON_KEYS = ("component", "method", "A_mV_per_bar", "A_lo_mV_per_bar",
                        "A_hi_mV_per_bar", "noise_sd_mV", "points", "out")
 
@@ -56,7 +57,8 @@ def register(subparsers) -> None:
         description="Extract P_L = Int S_zz dx and mu_d = Int S_xz / Int S_zz from a measured "
                     "profile, solve both models, view them through the sensor, fit the "
                     "sensor-apex offset, report chi per component and model; also fit P_L, "
-                    "mu_d and the offset directly (exact model).")
+                    "mu_d and the offset directly for each model, with 1-sigma uncertainties, "
+                    "chi per component and AIC (JSON 'fits', keyed by model; 'best_model').")
     p.add_argument("measured", metavar="MEASURED.csv",
                    help="columns x_m,S_zz_Pa,S_xz_Pa or x_m,U_zz_mV,U_xz_mV (uniform x)")
     p.add_argument("--young", type=_positive("--young"), default=2.2e6, help="E [Pa] (2.2e6)")
@@ -72,7 +74,7 @@ def register(subparsers) -> None:
     p.add_argument("--apparatus-xz", metavar="G.csv", default=None,
                    help="radial G_xz instead of the paper's")
     p.add_argument("--tol", type=float, default=1e-4, help="solver tolerance (1e-4)")
-    p.add_argument("--no-fit", action="store_true", help="skip the direct fit of P_L, mu_d")
+    p.add_argument("--no-fit", action="store_true", help="skip the direct fits of P_L, mu_d")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="FILE.png", help="measured points and both models")
     p.set_defaults(func=_cmd_compare)
@@ -117,7 +119,7 @@ def _apparatus(args):
 
 def _cmd_compare(args) -> int:
     from ..api import check_tol
-    from ..instruments.compare import compare_models, fit_load_mu, integral_estimates
+    from ..instruments.compare import FIT_KEYS, compare_models, fit_model, integral_estimates
     from ..instruments.measured_io import read_measured_profile
     from ..physics.scene import Scene
 
@@ -131,14 +133,18 @@ def _cmd_compare(args) -> int:
     models = compare_models(prof.x_m, Szz, Sxz, scene, tol=tol, apparatus=apparatus)
     ex, go = models["exact"], models["goodman"]
     fit, fit_note = None, "skipped (--no-fit)" if args.no_fit else "ok"
+    fits = {}
     if not args.no_fit:
         from ..errors import ConvergenceError
 
-        try:
-            fit = fit_load_mu(prof.x_m, Szz, Sxz, scene, ex["offset_m"], tol=tol,
-                              apparatus=apparatus)
-        except (ConvergenceError, InputError) as exc:  # the comparison itself stands
-            fit_note = f"failed: {exc}".splitlines()[0]
+        # each model fitted directly (P_L, mu_d, offset), with 1-sigma uncertainties and AIC
+        for name, m in models.items():
+            try:
+                fits[name] = fit_model(prof.x_m, Szz, Sxz, scene, m["offset_m"], model=name,
+                                       tol=tol, apparatus=apparatus)
+            except (ConvergenceError, InputError) as exc:  # the comparison itself stands
+                fit_note = f"{name} fit failed: {exc}".splitlines()[0]
+        fit = fits.get("exact")
     nan = float("nan")
     rec = {"load_N_per_m": P, "mu": mu, "offset_m": ex["offset_m"],
            "chi_zz_exact": ex["chi_zz"], "chi_xz_exact": ex["chi_xz"],
@@ -150,12 +156,17 @@ def _cmd_compare(args) -> int:
            "fit_chi_zz": fit["chi_zz"] if fit else nan,
            "fit_chi_xz": fit["chi_xz"] if fit else nan,
            "fit_note": fit_note, "points": int(prof.x_m.size), "input": prof.kind,
-           "young_Pa": args.young, "radius_m": args.radius, "thickness_m": args.thickness}
+           "young_Pa": args.young, "radius_m": args.radius, "thickness_m": args.thickness,
+           "fits": {name: {k: f[k] for k in FIT_KEYS} for name, f in fits.items()},
+           "best_model": min(fits, key=lambda k: fits[k]["aic"]) if fits else None}
     if plot is not None:
-        _plot_compare(plot, prof, Szz, Sxz, models, fit, rec)
+        _plot_compare(plot, prof, Szz, Sxz, models, fits, rec)
     if args.json:
-        print(json.dumps({k: (None if isinstance(v, float) and not math.isfinite(v) else v)
-                          for k, v in rec.items()}, indent=2))
+        def clean(v):
+            if isinstance(v, dict):
+                return {k: clean(w) for k, w in v.items()}
+            return None if isinstance(v, float) and not math.isfinite(v) else v
+        print(json.dumps(clean(rec), indent=2))
     else:
         mm = 1e3
         lines = [
@@ -167,48 +178,61 @@ def _cmd_compare(args) -> int:
             f"  Goodman model        offset {go['offset_m'] * mm:8.4f} mm   "
             f"chi_zz {go['chi_zz']:.4f}   chi_xz {go['chi_xz']:.4f}",
         ]
-        if not fit:
+        if not fits or fit_note != "ok":
             lines.append(f"  direct fit           {fit_note}")
-        else:
+        for name, f in fits.items():
             lines.append(
-                f"  direct fit (exact)   P_L = {fit['load_N_per_m']:.4g} N/m, "
-                f"mu_d = {fit['mu']:.4g}, offset {fit['offset_m'] * mm:.4f} mm, "
-                f"chi_zz {fit['chi_zz']:.4f}, chi_xz {fit['chi_xz']:.4f}")
+                f"  fit {name:<8s}         P_L = {f['load_N_per_m']:.4g} +- {f['load_sigma']:.2g} N/m, "
+                f"mu_d = {f['mu']:.4g} +- {f['mu_sigma']:.2g}, offset {f['offset_m'] * mm:.4f} "
+                f"+- {f['offset_sigma'] * mm:.2g} mm, chi_zz {f['chi_zz']:.4f}, "
+                f"chi_xz {f['chi_xz']:.4f}, AIC {f['aic']:.1f}")
+        if fits:
+            lines.append(f"  best model (AIC)     {rec['best_model']}")
         print("\n".join(lines))
     return 0
 
 
-def _plot_compare(path, prof, Szz, Sxz, models, fit, rec):
+def _plot_compare(path, prof, Szz, Sxz, models, fits, rec):
+    """Measured points with each model's direct fit (or, with --no-fit, each model at the
+    integral estimates), and a residual panel under each component."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from ..instruments.compare import _shifted
+
     mm, kPa = 1e3, 1e-3
     x = prof.x_m
     step = max(1, x.size // 300)
-    fig, axes = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
+    shown = fits or models
+    fig, axes = plt.subplots(4, 1, figsize=(7, 9), sharex=True,
+                             gridspec_kw={"height_ratios": [3, 1.2, 3, 1.2]})
     styles = {"exact": ("-", "C0"), "goodman": ("--", "C3")}
-    for ax, E, key, label in ((axes[0], Szz, "S_zz_Pa", "S_zz [kPa] (+ compression)"),
-                              (axes[1], Sxz, "S_xz_Pa", "S_xz [kPa]")):
+    for ax, rax, E, key, label in ((axes[0], axes[1], Szz, "S_zz_Pa", "S_zz [kPa] (+ compression)"),
+                                   (axes[2], axes[3], Sxz, "S_xz_Pa", "S_xz [kPa]")):
         ax.plot(x[::step] * mm, E[::step] * kPa, "o", ms=3, mfc="none", color="k",
                 label="measured")
-        for name, m in models.items():
+        comp = "chi_zz" if key == "S_zz_Pa" else "chi_xz"
+        for name, m in shown.items():
             ls, c = styles.get(name, ("-", None))
-            sel = (m["x_m"] + m["offset_m"] >= x[0]) & (m["x_m"] + m["offset_m"] <= x[-1])
-            comp = "chi_zz" if key == "S_zz_Pa" else "chi_xz"
-            ax.plot((m["x_m"][sel] + m["offset_m"]) * mm, m[key][sel] * kPa, ls, color=c,
-                    label=f"{name} model (chi {m[comp]:.3f})")
-        if fit:
-            sel = (fit["x_m"] + fit["offset_m"] >= x[0]) & (fit["x_m"] + fit["offset_m"] <= x[-1])
-            ax.plot((fit["x_m"][sel] + fit["offset_m"]) * mm, fit[key][sel] * kPa, ":",
-                    color="C2", label="exact, fitted P_L, mu_d")
+            o = m["offset_m"]
+            sel = (m["x_m"] + o >= x[0]) & (m["x_m"] + o <= x[-1])
+            tag = (f"{name} fit: P_L {m['load_N_per_m']:.4g}, mu {m['mu']:.3g}, chi {m[comp]:.3f}"
+                   if fits else f"{name} at integral estimates (chi {m[comp]:.3f})")
+            ax.plot((m["x_m"][sel] + o) * mm, m[key][sel] * kPa, ls, color=c, label=tag)
+            res = E - _shifted(m["x_m"], m[key], x, o)
+            rax.plot(x[::step] * mm, res[::step] * kPa, ls, color=c, lw=0.8)
         ax.axhline(0.0, color="0.7", lw=0.5)
+        rax.axhline(0.0, color="0.7", lw=0.5)
         ax.set_ylabel(label)
+        rax.set_ylabel("residual")
         ax.legend(fontsize=7)
-    axes[0].set_title(f"{Path(prof.path).name}: P_L = {rec['load_N_per_m']:.4g} N/m, "
-                      f"mu_d = {rec['mu']:.4g} (integral estimates)", fontsize=9)
-    axes[1].set_xlabel("x [mm] (file frame)")
+    title = (f"{Path(prof.path).name}: direct fits (best by AIC: {rec['best_model']})" if fits else
+             f"{Path(prof.path).name}: P_L = {rec['load_N_per_m']:.4g} N/m, "
+             f"mu_d = {rec['mu']:.4g} (integral estimates)")
+    axes[0].set_title(title, fontsize=9)
+    axes[3].set_xlabel("x [mm] (file frame)")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)

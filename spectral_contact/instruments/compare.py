@@ -11,9 +11,9 @@ sensor-to-apex offset is unknown):
    components together, J(o) = sum (E_zz - C_zz(x - o))^2 / sum E_zz^2 + (same for xz); a scan
    at the data step then a bounded Brent refinement.  Fitted per model.
 4. chi = sqrt(sum (E - C)^2 / sum E^2) per component and model (the paper's measure).
-5. Direct fit: P_L, mu_d and the offset by nonlinear least squares (same objective, exact model,
-   solves on the grid of the first solve so the objective is smooth in the parameters), from
-   the integral estimates.
+5. Direct fit: P_L, mu_d and the offset by nonlinear least squares (same objective, solves on
+   the grid of the first solve so the objective is smooth in the parameters), from the
+   integral estimates; ``fit_model`` adds 1-sigma uncertainties and an AIC, for each model.
 
 Model curves outside the solver's periodic domain are taken as 0 (the domain extends several
 film thicknesses beyond the contact, where the base stresses have decayed below the tolerance).
@@ -27,7 +27,7 @@ import numpy as np
 from ..errors import InputError
 
 __all__ = ["integral_estimates", "chi", "fit_offset", "compare_models", "fit_load_mu",
-           "model_view"]
+           "fit_model", "FIT_KEYS", "model_view"]
 
 
 def integral_estimates(x_m, S_zz_Pa, S_xz_Pa):
@@ -105,7 +105,8 @@ def compare_models(x_m, S_zz_Pa, S_xz_Pa, scene, tol: float = 1e-4, apparatus=No
 
 
 def fit_load_mu(x_m, S_zz_Pa, S_xz_Pa, scene, offset0: float, model: str = "exact",
-                tol: float = 1e-4, apparatus=None, max_solves: int = 80) -> dict:
+                tol: float = 1e-4, apparatus=None, max_solves: int = 80,
+                _keep_jacobian: bool = False) -> dict:
     """Least-squares fit of (P_L, mu_d, offset) of ``model`` to the measured profiles, from
     ``scene`` (its load and mu are the starting point) and ``offset0``.
 
@@ -147,7 +148,60 @@ def fit_load_mu(x_m, S_zz_Pa, S_xz_Pa, scene, offset0: float, model: str = "exac
                         xtol=1e-8, ftol=1e-10, gtol=1e-10, max_nfev=40)
     P, mu, o = P0 * math.exp(sol.x[0]), float(sol.x[1]), float(sol.x[2])
     xm, czz, cxz = view(P, mu)
-    return {"load_N_per_m": P, "mu": mu, "offset_m": o,
-            "chi_zz": chi(Ezz, _shifted(xm, czz, x, o)),
-            "chi_xz": chi(Exz, _shifted(xm, cxz, x, o)),
-            "solves": len(cache) + 1, "x_m": xm, "S_zz_Pa": czz, "S_xz_Pa": cxz}
+    out = {"load_N_per_m": P, "mu": mu, "offset_m": o,
+           "chi_zz": chi(Ezz, _shifted(xm, czz, x, o)),
+           "chi_xz": chi(Exz, _shifted(xm, cxz, x, o)),
+           "solves": len(cache) + 1, "x_m": xm, "S_zz_Pa": czz, "S_xz_Pa": cxz}
+    if _keep_jacobian:  # for fit_model's covariance: d(residual)/d(ln P, mu, offset)
+        out["_jacobian"] = (np.asarray(sol.jac, dtype=float), nz, nx)
+    return out
+
+
+def fit_model(x_m, S_zz_Pa, S_xz_Pa, scene, offset0: float, model: str = "exact",
+              tol: float = 1e-4, apparatus=None, max_solves: int = 80) -> dict:
+    """Direct least-squares fit of ``model`` (P_L, mu_d and the sensor-apex offset) with 1-sigma
+    uncertainties and an information criterion.
+
+    The fit is ``fit_load_mu``'s (same objective, each component normalised by its norm).  Then:
+
+    * noise: sigma_c^2 = RSS_c / (n - 3/2) per component c (zz, xz), from the residuals at the
+      optimum (the three parameters shared by the two components);
+    * covariance: (J_w^T J_w)^-1, J_w the Jacobian of the model curves with respect to
+      (ln P_L, mu_d, offset) weighted by 1/sigma_c (least_squares' finite-difference Jacobian at
+      the optimum); load_sigma = P_L sigma(ln P_L);
+    * AIC = sum_c n ln(RSS_c / n) + 2 k, k = 3 + 2 (the parameters and the two noise levels):
+      Gaussian noise of unknown level per component; lower is better, differences > 2 matter.
+
+    Returns {"model", "load_N_per_m", "load_sigma", "mu", "mu_sigma", "offset_m",
+    "offset_sigma", "chi_zz", "chi_xz", "aic", "sigma_zz_Pa", "sigma_xz_Pa", "solves", "x_m",
+    "S_zz_Pa", "S_xz_Pa"} (the last three: the fitted model's curves, apex frame).
+    """
+    out = fit_load_mu(x_m, S_zz_Pa, S_xz_Pa, scene, offset0, model=model, tol=tol,
+                      apparatus=apparatus, max_solves=max_solves, _keep_jacobian=True)
+    x = np.asarray(x_m, dtype=float)
+    Ezz, Exz = np.asarray(S_zz_Pa, float), np.asarray(S_xz_Pa, float)
+    n = x.size
+    o = out["offset_m"]
+    rzz = Ezz - _shifted(out["x_m"], out["S_zz_Pa"], x, o)
+    rxz = Exz - _shifted(out["x_m"], out["S_xz_Pa"], x, o)
+    rss = {"zz": float(np.sum(rzz**2)), "xz": float(np.sum(rxz**2))}
+    dof = max(n - 1.5, 1.0)
+    sig = {c: math.sqrt(v / dof) if v > 0 else 1e-300 for c, v in rss.items()}
+    jac, nz, nx = out.pop("_jacobian")
+    # the residuals of the fit were (E - C)/norm: d(C_c)/dp = -norm_c d(r_c)/dp
+    Jw = np.vstack([jac[:n] * (nz / sig["zz"]), jac[n:] * (nx / sig["xz"])])
+    try:
+        cov = np.linalg.inv(Jw.T @ Jw)
+        sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
+    except np.linalg.LinAlgError:
+        sd = np.full(3, np.nan)
+    aic = sum(n * math.log(max(v, 1e-300) / n) for v in rss.values()) + 2 * 5
+    out.update({"model": model, "load_sigma": out["load_N_per_m"] * float(sd[0]),
+                "mu_sigma": float(sd[1]), "offset_sigma": float(sd[2]), "aic": float(aic),
+                "sigma_zz_Pa": sig["zz"], "sigma_xz_Pa": sig["xz"]})
+    return out
+
+
+FIT_KEYS = ("load_N_per_m", "load_sigma", "mu", "mu_sigma", "offset_m", "offset_sigma",
+            "chi_zz", "chi_xz", "aic")
+"""The keys of each model's record in ``compare``'s JSON ``fits``."""
