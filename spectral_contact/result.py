@@ -23,7 +23,8 @@ level of the resolution control."""
 JSON_KEYS = (
     "model", "method", "load_N_per_m", "mu", "young_Pa", "poisson", "radius_m", "thickness_m",
     "half_width_m", "contact_center_m", "x0_m", "indentation_m", "max_pressure_Pa",
-    "max_pressure_x_m", "friction_law", "Q_over_P", "interface_compliance_m_per_Pa", "grid_points",
+    "max_pressure_x_m", "friction_law", "Q_over_P", "interface_compliance_m_per_Pa", "interface_law",
+    "grid_points",
     "domain_length_m", "iterations", "residual",
     "error_estimate", "wall_time_s", "plan_time_s",
 )
@@ -150,6 +151,9 @@ class ContactResult:
         } | s.friction.describe() | {
             "Q_over_P": self.friction_ratio,
             "interface_compliance_m_per_Pa": s.interface_compliance,
+            "interface_law": s.interface_law,
+        } | ({"interface_pressure_Pa": s.interface_pressure, "interface_length_m": s.interface_length}
+             if s.interface_law == "exponential" else {}) | {
             "grid_points": int(self.grid_points),
             "domain_length_m": float(self.domain_length * L),
             "iterations": int(self.iterations),

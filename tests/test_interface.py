@@ -101,3 +101,78 @@ def test_cli_json_reports_compliance(capsys):
     assert main(["solve", "--json", "--tol", "1e-3", "--interface-compliance", "1e-9"]) == 0
     rec = json.loads(capsys.readouterr().out)
     assert rec["interface_compliance_m_per_Pa"] == 1e-9
+
+
+# --- exponential interface law ---------------------------------------------------------------
+_EXP = dict(load=200.0, mu=2.0, interface_law="exponential", interface_pressure=1e5)
+
+
+def test_exponential_law_holds_at_every_node():
+    """p = p0 exp(-g/lambda) with g = f - d + H p recomputed independently (numpy FFT)."""
+    from spectral_contact.numerics.interface import solve_exponential_contact
+
+    g = Grid.centered(2048, 24.0, 0.5)
+    for nu, mu, lam in ((0.5, 2.0, 0.1), (0.4, -1.0, 0.01)):
+        sol = solve_exponential_contact(g, mu, Cylinder(0.0, 10.0), 10.0, lam,
+                                        film=Film(poisson=nu), rtol=1e-10)
+        p = sol.pressure
+        k = 2 * np.pi * np.fft.fftfreq(g.n, g.dx)
+        H = Film(poisson=nu).surface_compliance((np.sign(k),), np.abs(k), mu)
+        w = np.fft.ifft(H * np.fft.fft(p)).real
+        gap = g.x**2 - sol.indentations[0] + w
+        law = 10.0 * np.exp(-gap / lam)
+        big = p > 1e-10 * p.max()
+        np.testing.assert_allclose(p[big], law[big], rtol=1e-7)
+        assert np.all(p > 0) and np.sum(p) * g.dx == pytest.approx(10.0, rel=1e-10)
+
+
+def test_exponential_p0_only_shifts_the_indentation():
+    a = solve(tol=1e-3, interface_length=1e-7, **_EXP)
+    b = solve(tol=1e-3, interface_length=1e-7, **(_EXP | {"interface_pressure": 1e6}))
+    np.testing.assert_allclose(a.pressure, b.pressure, rtol=1e-6, atol=1e-9 * a.max_pressure)
+    # a larger p0 closes the gap less at the same pressure: d falls by lambda ln(10)
+    assert a.indentation_m - b.indentation_m == pytest.approx(1e-7 * np.log(10.0), rel=1e-3)
+
+
+def test_exponential_law_tends_to_the_rigid_interface():
+    """lambda -> 0: the window where p >= 1 % p_max tends to the rigid contact's."""
+    rigid = solve(load=200.0, mu=2.0, tol=1e-4)
+    errs = []
+    for lam in (1e-7, 1e-8):
+        r = solve(tol=1e-4, interface_length=lam, **_EXP)
+        errs.append(abs(r.half_width / rigid.half_width - 1))
+        assert r.max_pressure == pytest.approx(rigid.max_pressure, rel=30 * lam / 1.54e-5)
+        dx = r.x[1] - r.x[0]
+        assert np.sum(r.base_sigma_xz) == pytest.approx(2.0 * np.sum(r.pressure), rel=1e-10)
+        assert np.sum(r.pressure) * dx == pytest.approx(r.scene.P, rel=2e-6)  # Newton's accept
+        assert "p >= 0.01 p_max" in r.info["width_definition"]
+    assert errs[1] < 0.005 and errs[1] < 0.3 * errs[0]
+
+
+@pytest.mark.parametrize("argv,word", [
+    (["--interface-law", "exponential", "--interface-length", "1e-6"], "interface-pressure"),
+    (["--interface-law", "exponential", "--interface-pressure", "1e5"], "interface-length"),
+    (["--interface-law", "exponential", "--interface-pressure", "0", "--interface-length", "1e-6"],
+     "interface-pressure"),
+    (["--interface-law", "exponential", "--interface-pressure", "1e5", "--interface-length=-1e-6"],
+     "interface-length"),
+    (["--interface-pressure", "1e5"], "exponential only"),
+    (["--interface-law", "exponential", "--interface-pressure", "1e5", "--interface-length", "1e-6",
+      "--interface-compliance", "1e-9"], "linear only"),
+    (["--interface-law", "exponential", "--interface-pressure", "1e5", "--interface-length", "1e-6",
+      "--friction-law", "power", "--friction-pref", "1e4"], "amontons only"),
+    (["--interface-law", "exponential", "--interface-pressure", "1e5", "--interface-length", "1e-6",
+      "--method", "abel"], "abel"),
+])
+def test_cli_refuses_bad_exponential_law_in_one_line(argv, word, capsys, tmp_path):
+    out = tmp_path / "p.csv"
+    assert main(["solve", *argv, "--profiles", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and word in err and not out.exists()
+
+
+def test_cli_json_reports_exponential_law(capsys):
+    assert main(["solve", "--json", "--tol", "1e-3", "--interface-law", "exponential",
+                 "--interface-pressure", "1e5", "--interface-length", "1e-6"]) == 0
+    rec = json.loads(capsys.readouterr().out)
+    assert rec["interface_law"] == "exponential" and rec["interface_length_m"] == 1e-6

@@ -47,6 +47,13 @@ def _add_scene_options(p):
     p.add_argument("--shear-slope", type=float, default=None, help="alpha of the linear law")
     p.add_argument("--interface-compliance", type=float, default=0.0,
                    help="C [m/Pa] >= 0: the interface closes by C p (default 0: rigid; --method fft)")
+    p.add_argument("--interface-law", choices=("linear", "exponential"), default="linear",
+                   help="linear: --interface-compliance (default); exponential: p = p0 exp(-g/lambda) "
+                        "at an interface gap g (soft edges; --method fft, Amontons friction)")
+    p.add_argument("--interface-pressure", type=float, default=None,
+                   help="p0 of the exponential interface law [Pa], > 0")
+    p.add_argument("--interface-length", type=float, default=None,
+                   help="lambda of the exponential interface law [m], > 0")
 
 
 def _summary_text(r) -> str:
@@ -94,7 +101,8 @@ def _cmd_solve(args) -> int:
                   thickness=args.thickness, poisson=args.poisson, friction_law=args.friction_law,
                   friction_exponent=args.friction_exponent, friction_pref=args.friction_pref,
                   shear_strength=args.shear_strength, shear_slope=args.shear_slope,
-                  interface_compliance=args.interface_compliance)
+                  interface_compliance=args.interface_compliance, interface_law=args.interface_law,
+                  interface_pressure=args.interface_pressure, interface_length=args.interface_length)
     if args.plot:
         check_plot_path(args.plot)
     r = solve(scene, model=args.model, method=args.method, tol=args.tol,

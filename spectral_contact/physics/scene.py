@@ -93,6 +93,12 @@ class Scene:
         C [m/Pa] >= 0, a linear compliance of the film-indenter interface (a rough or soft
         skin): the interface closes by C p, so the contact condition is f - d + w + C p = 0
         where p > 0 (default 0: rigid interface, the paper's).
+    interface_law : str
+        "linear" (default: ``interface_compliance``) or "exponential": the interface carries
+        p = p0 exp(-g / lambda) at an interface gap g (the classical rough-contact form), with
+    interface_pressure, interface_length : float, optional
+        p0 [Pa] > 0 and lambda [m] > 0 of the exponential law (required by it, refused
+        otherwise).  The exponential law has no sharp contact edges.
     """
 
     load: float = 200.0
@@ -107,6 +113,9 @@ class Scene:
     shear_strength: float | None = None
     shear_slope: float | None = None
     interface_compliance: float = 0.0
+    interface_law: str = "linear"
+    interface_pressure: float | None = None
+    interface_length: float | None = None
 
     def __post_init__(self):
         c = check_finite("interface compliance (C)", self.interface_compliance, ">= 0 m/Pa")
@@ -130,6 +139,41 @@ class Scene:
             raise InputError(f"load (P_L) must be >= 0 N/m; got {load}")
         object.__setattr__(self, "load", load)
         object.__setattr__(self, "mu", check_finite("mu (mu_d)", self.mu, "any finite real"))
+        self._check_interface_law()
+
+    def _check_interface_law(self):
+        law = self.interface_law
+        if law not in ("linear", "exponential"):
+            raise InputError(f"interface law must be linear or exponential; got {law!r}")
+        if law == "linear":
+            for name, opt in (("interface_pressure", "--interface-pressure"),
+                              ("interface_length", "--interface-length")):
+                if getattr(self, name) is not None:
+                    raise InputError(f"{opt} ({name}) applies to interface law exponential only")
+            return
+        for name, opt, unit in (("interface_pressure", "--interface-pressure", "Pa"),
+                                ("interface_length", "--interface-length", "m")):
+            v = getattr(self, name)
+            if v is None:
+                raise InputError(f"{opt} ({name}) is required by interface law exponential "
+                                 f"(> 0 {unit})")
+            object.__setattr__(self, name, check_positive(f"{opt} ({name})", v, unit))
+        if self.interface_compliance:
+            raise InputError("interface compliance (C) applies to interface law linear only; "
+                             "the law is exponential")
+        if self.friction_law != "amontons":
+            raise InputError(f"interface law exponential takes friction law amontons only; got "
+                             f"{self.friction_law}")
+
+    @property
+    def interface_p0(self) -> float:
+        """p0 of the exponential interface law in the core's stress unit."""
+        return self.interface_pressure / self.stress_unit
+
+    @property
+    def interface_lambda(self) -> float:
+        """lambda of the exponential interface law in the core's displacement unit."""
+        return self.interface_length / self.displacement_unit
 
     @property
     def friction(self):

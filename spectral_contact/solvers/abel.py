@@ -512,7 +512,8 @@ class AbelMethod(Method):
         if not scene.friction.is_amontons:
             raise InputError(f"method abel solves Amontons friction only; got friction law "
                              f"{scene.friction_law}: use method fft")
-        if scene.interface_compliance != 0.0:
-            raise InputError("method abel has a rigid interface only (interface compliance 0); got "
-                             f"{scene.interface_compliance:g} m/Pa: use method fft")
+        if scene.interface_compliance != 0.0 or scene.interface_law != "linear":
+            raise InputError("method abel has a rigid interface only (interface compliance 0, "
+                             f"law linear); got {scene.interface_compliance:g} m/Pa, law "
+                             f"{scene.interface_law}: use method fft")
         return solve_abel(scene, self.check_model(model), self.tol, self.grid_points)

@@ -29,6 +29,7 @@ from ..numerics.edges import fit_edges, peak
 from ..numerics.fft import get_rfft, plan_cache_info
 from ..numerics.friction import solve_contact_law
 from ..numerics.grid import Grid, pow2_at_least
+from ..numerics.interface import solve_exponential_contact
 from ..physics.film import Film
 from ..physics.friction import ShearLaw
 from ..physics.indenters import Cylinder
@@ -57,8 +58,34 @@ def _contact_window(sol):
     return 0.5 * (right - left), 0.5 * (right + left), edges
 
 
+EDGE_FRACTION = 0.01
+"""Exponential interface: the contact window is where p >= EDGE_FRACTION p_max.  As the
+interface stiffens (lambda -> 0) it tends to the rigid window: a square-root edge reaches
+1 % of p_max within ~1e-4 of the half-width."""
+
+
+def _soft_window(sol):
+    """(a, x_c, edges) of a contact without sharp edges (exponential interface): the outermost
+    crossings of p = EDGE_FRACTION p_max around the peak (linear between nodes)."""
+    g = sol.grid
+    p = sol.pressure
+    n = p.size
+    j = int(np.argmax(p))
+    thr = EDGE_FRACTION * p[j]
+    ends = []
+    for side in (+1, -1):
+        i = j
+        while p[(i + side) % n] >= thr and abs(i + side - j) < n - 1:
+            i += side
+        p_in, p_out = p[i % n], p[(i + side) % n]
+        t = (p_in - thr) / (p_in - p_out) if p_in > p_out else 0.5
+        ends.append(g.x[j] + (i - j + side * t) * g.dx)
+    right, left = ends
+    return 0.5 * (right - left), 0.5 * (right + left), [(left, right)]
+
+
 def _measure(sol):
-    a, c, edges = _contact_window(sol)
+    a, c, edges = _soft_window(sol) if getattr(sol, "soft", False) else _contact_window(sol)
     pm, xm = peak(sol.grid.x, sol.pressure)
     return {"a": a, "c": c, "d": float(sol.indentations[0]), "pmax": pm, "xmax": xm,
             "edges": edges}
@@ -118,8 +145,16 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     law_iterations = [0]
     # a compliant interface (linear): the contact operator is H + c (numerics.friction)
     c = scene.interface
+    # or the exponential law p = p0 exp(-g/lambda): no contact set (numerics.interface)
+    exponential = scene.interface_law == "exponential"
 
     def contact(grid, p_init=None):
+        if exponential:
+            s_ = solve_exponential_contact(grid, mu_contact, indenter[0], scene.interface_p0,
+                                           scene.interface_lambda, film=film, p_init=p_init,
+                                           rtol=accept)
+            s_.soft = True
+            return s_
         if not with_law and c == 0.0:
             return solve_contact(grid, mu_contact, indenter, film=film, p_init=p_init, accept=accept)
         s_, _, li = solve_contact_law(grid, law if with_law else ShearLaw("amontons", mu=mu_contact),
@@ -192,6 +227,8 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         else:
             lo, hi = min(e[0] for e in qprev["edges"]), max(e[1] for e in qprev["edges"])
             p_init = np.where((g.x > lo) & (g.x < hi), np.maximum(_refine(prev.pressure), 1e-12), 0.0)
+            if exponential:  # no contact set: the whole refined pressure
+                p_init = _refine(prev.pressure)
         cur = contact(g, p_init=p_init)
         shifted = contact(Grid.centered(n, L, center + 0.5 * g.dx),
                           p_init=0.5 * (cur.pressure + np.roll(cur.pressure, -1)))
@@ -247,6 +284,9 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         info["friction_law_iterations"] = law_iterations[0]
     if c:
         info["interface_compliance"] = c
+    if exponential:
+        info["width_definition"] = (f"exponential interface: no sharp edges; the contact window "
+                                    f"is where p >= {EDGE_FRACTION:g} p_max")
     return ContactResult(
         scene=scene, model=model, method="fft", x=sol.grid.x, pressure=p,
         base_sigma_zz=szz, base_sigma_xz=sxz, half_width=q["a"], center=q["c"],

@@ -40,19 +40,21 @@ def solve_scene(scene: Scene, model: str, method: str, tol: float, grid_points=N
     if not scene.friction.is_amontons and model == "hertz":
         raise InputError(f"model hertz takes Amontons friction only; got friction law "
                          f"{scene.friction_law}: use model exact or goodman")
-    if scene.interface_compliance != 0.0 and model == "hertz":
+    soft = scene.interface_compliance != 0.0 or scene.interface_law != "linear"
+    if soft and model == "hertz":
         raise InputError(f"model hertz has a rigid interface only; got interface compliance "
-                         f"{scene.interface_compliance:g} m/Pa: use model exact or goodman")
+                         f"{scene.interface_compliance:g} m/Pa, law {scene.interface_law}: use "
+                         "model exact or goodman")
     if model == "hertz":  # closed form, whatever the method
         return solve_hertz(scene, tol=solver.tol, grid_points=grid_points, domain_length=domain_length)
     if model != "auto":
         return solver.solve(scene, model)
     s = hertz_half_width(scene.P)
-    if scene.poisson != 0.5 or not scene.friction.is_amontons or scene.interface_compliance:
+    if scene.poisson != 0.5 or not scene.friction.is_amontons or soft:
         # the bounds were fitted on incompressible films with Amontons friction only
         why = (f"poisson {scene.poisson:g} < 0.5" if scene.poisson != 0.5 else
                f"friction law {scene.friction_law}" if not scene.friction.is_amontons else
-               f"interface compliance {scene.interface_compliance:g} m/Pa")
+               "a compliant interface")
         r = solver.solve(scene, "exact")
         r.info.update({"auto": "exact", "auto_reason": f"exact: {why}, outside the validated map "
                        "(the fitted bounds are for nu = 0.5, Amontons friction and a rigid "
