@@ -75,6 +75,9 @@ def register(subparsers) -> None:
                    help="radial G_xz instead of the paper's")
     p.add_argument("--tol", type=float, default=1e-4, help="solver tolerance (1e-4)")
     p.add_argument("--no-fit", action="store_true", help="skip the direct fits of P_L, mu_d")
+    p.add_argument("--fit-poisson", action="store_true",
+                   help="also fit the exact model with the film's Poisson ratio free (in [0, 0.5]):"
+                        " fits['exact+poisson'] with poisson, poisson_sigma")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="FILE.png", help="measured points and both models")
     p.set_defaults(func=_cmd_compare)
@@ -144,6 +147,13 @@ def _cmd_compare(args) -> int:
                                        tol=tol, apparatus=apparatus)
             except (ConvergenceError, InputError) as exc:  # the comparison itself stands
                 fit_note = f"{name} fit failed: {exc}".splitlines()[0]
+        if args.fit_poisson:
+            try:
+                fits["exact+poisson"] = fit_model(prof.x_m, Szz, Sxz, scene, ex["offset_m"],
+                                                  model="exact", tol=tol, apparatus=apparatus,
+                                                  fit_poisson=True)
+            except (ConvergenceError, InputError) as exc:
+                fit_note = f"exact+poisson fit failed: {exc}".splitlines()[0]
         fit = fits.get("exact")
     nan = float("nan")
     rec = {"load_N_per_m": P, "mu": mu, "offset_m": ex["offset_m"],
@@ -157,7 +167,8 @@ def _cmd_compare(args) -> int:
            "fit_chi_xz": fit["chi_xz"] if fit else nan,
            "fit_note": fit_note, "points": int(prof.x_m.size), "input": prof.kind,
            "young_Pa": args.young, "radius_m": args.radius, "thickness_m": args.thickness,
-           "fits": {name: {k: f[k] for k in FIT_KEYS} for name, f in fits.items()},
+           "fits": {name: {k: f[k] for k in FIT_KEYS + ("poisson", "poisson_sigma") if k in f}
+                    for name, f in fits.items()},
            "best_model": min(fits, key=lambda k: fits[k]["aic"]) if fits else None}
     if plot is not None:
         _plot_compare(plot, prof, Szz, Sxz, models, fits, rec)
@@ -185,7 +196,8 @@ def _cmd_compare(args) -> int:
                 f"  fit {name:<8s}         P_L = {f['load_N_per_m']:.4g} +- {f['load_sigma']:.2g} N/m, "
                 f"mu_d = {f['mu']:.4g} +- {f['mu_sigma']:.2g}, offset {f['offset_m'] * mm:.4f} "
                 f"+- {f['offset_sigma'] * mm:.2g} mm, chi_zz {f['chi_zz']:.4f}, "
-                f"chi_xz {f['chi_xz']:.4f}, AIC {f['aic']:.1f}")
+                f"chi_xz {f['chi_xz']:.4f}, AIC {f['aic']:.1f}"
+                + (f", nu = {f['poisson']:.4f} +- {f['poisson_sigma']:.2g}" if "poisson" in f else ""))
         if fits:
             lines.append(f"  best model (AIC)     {rec['best_model']}")
         print("\n".join(lines))
@@ -208,7 +220,7 @@ def _plot_compare(path, prof, Szz, Sxz, models, fits, rec):
     shown = fits or models
     fig, axes = plt.subplots(4, 1, figsize=(7, 9), sharex=True,
                              gridspec_kw={"height_ratios": [3, 1.2, 3, 1.2]})
-    styles = {"exact": ("-", "C0"), "goodman": ("--", "C3")}
+    styles = {"exact": ("-", "C0"), "goodman": ("--", "C3"), "exact+poisson": ("-.", "C2")}
     for ax, rax, E, key, label in ((axes[0], axes[1], Szz, "S_zz_Pa", "S_zz [kPa] (+ compression)"),
                                    (axes[2], axes[3], Sxz, "S_xz_Pa", "S_xz [kPa]")):
         ax.plot(x[::step] * mm, E[::step] * kPa, "o", ms=3, mfc="none", color="k",

@@ -106,7 +106,7 @@ def compare_models(x_m, S_zz_Pa, S_xz_Pa, scene, tol: float = 1e-4, apparatus=No
 
 def fit_load_mu(x_m, S_zz_Pa, S_xz_Pa, scene, offset0: float, model: str = "exact",
                 tol: float = 1e-4, apparatus=None, max_solves: int = 80,
-                _keep_jacobian: bool = False) -> dict:
+                _keep_jacobian: bool = False, fit_poisson: bool = False) -> dict:
     """Least-squares fit of (P_L, mu_d, offset) of ``model`` to the measured profiles, from
     ``scene`` (its load and mu are the starting point) and ``offset0``.
 
@@ -126,58 +126,72 @@ def fit_load_mu(x_m, S_zz_Pa, S_xz_Pa, scene, offset0: float, model: str = "exac
     cache = {}
     P0, mu0 = scene.load, scene.mu
 
-    def view(P, mu):
-        key = (round(P, 12), round(mu, 12))
+    def view(P, mu, *extra):
+        key = (round(P, 12), round(mu, 12)) + tuple(round(e, 12) for e in extra)
         if key not in cache:
             if len(cache) >= max_solves:
                 raise InputError(f"fit of P_L and mu did not settle within {max_solves} solves")
-            r = solve(scene.with_(load=P, mu=mu), model=model, tol=tol, grid_points=N,
+            changes = {"poisson": extra[0]} if extra else {}
+            r = solve(scene.with_(load=P, mu=mu, **changes), model=model, tol=tol, grid_points=N,
                       domain_length=L)
             cache[key] = model_view(r, apparatus)
         return cache[key]
 
     def residuals(p):
         P, mu, o = P0 * math.exp(p[0]), p[1], p[2]
-        xm, czz, cxz = view(P, mu)
+        xm, czz, cxz = view(P, mu, *p[3:])
         return np.concatenate([(Ezz - _shifted(xm, czz, x, o)) / nz,
                                (Exz - _shifted(xm, cxz, x, o)) / nx])
 
     h = scene.thickness
-    sol = least_squares(residuals, x0=[0.0, mu0, offset0], x_scale=[0.05, 0.05, 0.02 * h],
-                        diff_step=[1e-4, 1e-4 / max(abs(mu0), 1.0), 1e-5], method="trf",
-                        xtol=1e-8, ftol=1e-10, gtol=1e-10, max_nfev=40)
+    x0, x_scale = [0.0, mu0, offset0], [0.05, 0.05, 0.02 * h]
+    diff_step, bounds = [1e-4, 1e-4 / max(abs(mu0), 1.0), 1e-5], (-np.inf, np.inf)
+    if fit_poisson:  # nu in [0, 0.5], from the scene's (0.5 started just inside)
+        x0.append(min(scene.poisson, 0.49))
+        x_scale.append(0.01)
+        diff_step.append(1e-3)
+        bounds = ([-np.inf, -np.inf, -np.inf, 0.0], [np.inf, np.inf, np.inf, 0.5])
+    sol = least_squares(residuals, x0=x0, x_scale=x_scale, diff_step=diff_step, bounds=bounds,
+                        method="trf", xtol=1e-8, ftol=1e-10, gtol=1e-10, max_nfev=40)
     P, mu, o = P0 * math.exp(sol.x[0]), float(sol.x[1]), float(sol.x[2])
-    xm, czz, cxz = view(P, mu)
+    xm, czz, cxz = view(P, mu, *sol.x[3:])
     out = {"load_N_per_m": P, "mu": mu, "offset_m": o,
            "chi_zz": chi(Ezz, _shifted(xm, czz, x, o)),
            "chi_xz": chi(Exz, _shifted(xm, cxz, x, o)),
            "solves": len(cache) + 1, "x_m": xm, "S_zz_Pa": czz, "S_xz_Pa": cxz}
+    if fit_poisson:
+        out["poisson"] = float(sol.x[3])
     if _keep_jacobian:  # for fit_model's covariance: d(residual)/d(ln P, mu, offset)
         out["_jacobian"] = (np.asarray(sol.jac, dtype=float), nz, nx)
     return out
 
 
 def fit_model(x_m, S_zz_Pa, S_xz_Pa, scene, offset0: float, model: str = "exact",
-              tol: float = 1e-4, apparatus=None, max_solves: int = 80) -> dict:
-    """Direct least-squares fit of ``model`` (P_L, mu_d and the sensor-apex offset) with 1-sigma
-    uncertainties and an information criterion.
+              tol: float = 1e-4, apparatus=None, max_solves: int = 80,
+              fit_poisson: bool = False) -> dict:
+    """Direct least-squares fit of ``model`` (P_L, mu_d and the sensor-apex offset; with
+    ``fit_poisson`` also the film's Poisson ratio, in [0, 0.5]) with 1-sigma uncertainties and
+    an information criterion.
 
     The fit is ``fit_load_mu``'s (same objective, each component normalised by its norm).  Then:
 
-    * noise: sigma_c^2 = RSS_c / (n - 3/2) per component c (zz, xz), from the residuals at the
-      optimum (the three parameters shared by the two components);
+    * noise: sigma_c^2 = RSS_c / (n - k/2) per component c (zz, xz), from the residuals at the
+      optimum (the k = 3 or 4 parameters shared by the two components);
     * covariance: (J_w^T J_w)^-1, J_w the Jacobian of the model curves with respect to
       (ln P_L, mu_d, offset) weighted by 1/sigma_c (least_squares' finite-difference Jacobian at
       the optimum); load_sigma = P_L sigma(ln P_L);
-    * AIC = sum_c n ln(RSS_c / n) + 2 k, k = 3 + 2 (the parameters and the two noise levels):
+    * AIC = sum_c n ln(RSS_c / n) + 2 (k + 2) (the parameters and the two noise levels):
       Gaussian noise of unknown level per component; lower is better, differences > 2 matter.
 
     Returns {"model", "load_N_per_m", "load_sigma", "mu", "mu_sigma", "offset_m",
     "offset_sigma", "chi_zz", "chi_xz", "aic", "sigma_zz_Pa", "sigma_xz_Pa", "solves", "x_m",
-    "S_zz_Pa", "S_xz_Pa"} (the last three: the fitted model's curves, apex frame).
+    "S_zz_Pa", "S_xz_Pa"} (the last three: the fitted model's curves, apex frame), plus
+    "poisson", "poisson_sigma" with ``fit_poisson``.
     """
     out = fit_load_mu(x_m, S_zz_Pa, S_xz_Pa, scene, offset0, model=model, tol=tol,
-                      apparatus=apparatus, max_solves=max_solves, _keep_jacobian=True)
+                      apparatus=apparatus, max_solves=max_solves, _keep_jacobian=True,
+                      fit_poisson=fit_poisson)
+    k = 4 if fit_poisson else 3
     x = np.asarray(x_m, dtype=float)
     Ezz, Exz = np.asarray(S_zz_Pa, float), np.asarray(S_xz_Pa, float)
     n = x.size
@@ -185,7 +199,7 @@ def fit_model(x_m, S_zz_Pa, S_xz_Pa, scene, offset0: float, model: str = "exact"
     rzz = Ezz - _shifted(out["x_m"], out["S_zz_Pa"], x, o)
     rxz = Exz - _shifted(out["x_m"], out["S_xz_Pa"], x, o)
     rss = {"zz": float(np.sum(rzz**2)), "xz": float(np.sum(rxz**2))}
-    dof = max(n - 1.5, 1.0)
+    dof = max(n - 0.5 * k, 1.0)
     sig = {c: math.sqrt(v / dof) if v > 0 else 1e-300 for c, v in rss.items()}
     jac, nz, nx = out.pop("_jacobian")
     # the residuals of the fit were (E - C)/norm: d(C_c)/dp = -norm_c d(r_c)/dp
@@ -194,11 +208,13 @@ def fit_model(x_m, S_zz_Pa, S_xz_Pa, scene, offset0: float, model: str = "exact"
         cov = np.linalg.inv(Jw.T @ Jw)
         sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
     except np.linalg.LinAlgError:
-        sd = np.full(3, np.nan)
-    aic = sum(n * math.log(max(v, 1e-300) / n) for v in rss.values()) + 2 * 5
+        sd = np.full(k, np.nan)
+    aic = sum(n * math.log(max(v, 1e-300) / n) for v in rss.values()) + 2 * (k + 2)
     out.update({"model": model, "load_sigma": out["load_N_per_m"] * float(sd[0]),
                 "mu_sigma": float(sd[1]), "offset_sigma": float(sd[2]), "aic": float(aic),
                 "sigma_zz_Pa": sig["zz"], "sigma_xz_Pa": sig["xz"]})
+    if fit_poisson:
+        out["poisson_sigma"] = float(sd[3])
     return out
 
 
