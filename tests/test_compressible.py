@@ -225,3 +225,17 @@ def test_small_contacts_tend_to_the_sliding_half_space_closed_form(nu, mu):
     extrapolated = 2 * ca[1][0] - ca[0][0]
     assert extrapolated == pytest.approx(ca[0][1], rel=0.02)
     assert np.sign(extrapolated) == -np.sign(mu)  # shifted against the sliding direction
+
+
+def test_normal_compliance_is_contactmechanics_layer():
+    """Cross-check with ContactMechanics' finite-thickness layer on a rigid flat (Carbone and
+    Mangialardi's): the same normal compliance, k = 0 included (skipped without the peer)."""
+    cm = pytest.importorskip("ContactMechanics")
+    n, L = 64, 20.0
+    k = 2 * np.pi * np.fft.rfftfreq(n, L / n)
+    for nu in (0.0, 0.3, 0.4, 0.49):
+        sub = cm.PeriodicFFTElasticHalfSpace((n, 1), 2 * (1 + nu), physical_sizes=(L, 1.0),
+                                             thickness=1.0, poisson=nu)
+        theirs = np.asarray(sub.greens_function)[:, 0]
+        ours = Film(poisson=nu).surface_compliance((np.ones_like(k),), k, 0.0).real
+        np.testing.assert_allclose(theirs, ours, rtol=1e-14)
