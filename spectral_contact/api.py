@@ -26,7 +26,13 @@ def solve(scene: Scene | None = None, *, model: str = "exact", method: str = "ff
     ----------
     scene : Scene, optional
         The scene (SI).  If omitted, built from ``params`` (``load`` [N/m], ``mu``, ``young``
-        [Pa], ``radius`` [m], ``thickness`` [m]) over the paper's defaults.
+        [Pa], ``radius`` [m], ``thickness`` [m]; beyond the paper's assumptions: ``poisson``
+        in [0, 0.5], ``friction_law`` "amontons" | "power" | "linear" with
+        ``friction_exponent``, ``friction_pref`` [Pa], ``shear_strength`` [Pa],
+        ``shear_slope``; ``interface_compliance`` [m/Pa], or ``interface_law`` "exponential"
+        with ``interface_pressure`` [Pa] and ``interface_length`` [m]: see ``Scene``) over
+        the paper's defaults.  Those refinements need the FFT method and model exact or
+        goodman (auto picks exact).
     model : {"exact", "goodman", "hertz", "auto"}
         "exact": the paper's exact model (friction coupled into the contact); "goodman":
         frictionless pressure and window, friction loads the base only; "hertz": closed-form

@@ -80,6 +80,11 @@ def _summary_text(r) -> str:
             lines.append(f"  peak base sigma_{name}       {field[m] * kPa:10.4f} kPa at x = {r.x_m[m] * mm:.4f} mm")
     if s["friction_law"] != "amontons":
         lines.append(f"  friction law {s['friction_law']}: Q/P = {s['Q_over_P']:.5f}")
+    if s["interface_compliance_m_per_Pa"]:
+        lines.append(f"  interface compliance     {s['interface_compliance_m_per_Pa']:g} m/Pa")
+    if s["interface_law"] == "exponential":
+        lines.append(f"  exponential interface    p0 = {s['interface_pressure_Pa']:g} Pa, lambda = "
+                     f"{s['interface_length_m']:g} m; {r.info.get('width_definition', '')}")
     if "auto_reason" in r.info:
         lines.append(f"  auto: {r.info['auto_reason']}")
     grid = (f"{s['grid_points']} Nystrom nodes, profiles over {s['domain_length_m'] * mm:.2f} mm"
