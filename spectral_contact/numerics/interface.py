@@ -15,6 +15,8 @@ and the diagonal lambda/p elsewhere.  Steps are damped (at most one unit of ln p
 that carry the load, backtracking on the residual); nodes whose pressure is negligible are
 reset to the law's value of their gap after each step (they do not move the surface).
 Converged when the largest of |R| / (scale of f - d + w) and the load error is below ``rtol``.
+A stiff law (small lambda) that Newton does not settle from the first guess is reached by
+continuation: lambda x 10, x 100, ... solved first, each from the softer one's pressure.
 """
 from __future__ import annotations
 
@@ -30,9 +32,26 @@ __all__ = ["solve_exponential_contact"]
 _NEGLIGIBLE = 1e-12  # pressure fraction of p_max below which a node is reset to its law value
 
 
-def solve_exponential_contact(grid: Grid, mu: float, indenter, p0: float, lam: float, *,  # noqa: PLR0915
+def solve_exponential_contact(grid: Grid, mu: float, indenter, p0: float, lam: float, *,
                               film=None, p_init=None, rtol: float = 1e-9,
-                              max_newton: int = 100) -> ContactSolution:
+                              max_newton: int = 100, continuation: int = 4) -> ContactSolution:
+    """See ``_newton``; if Newton does not settle, continuation in lambda: solve at 10 lambda
+    (recursively, up to ``continuation`` decades) and restart from that pressure."""
+    try:
+        return _newton(grid, mu, indenter, p0, lam, film=film, p_init=p_init, rtol=rtol,
+                       max_newton=max_newton)
+    except ConvergenceError:
+        if continuation <= 0:
+            raise
+    softer = solve_exponential_contact(grid, mu, indenter, p0, 10.0 * lam, film=film,
+                                       p_init=p_init, rtol=max(rtol, 1e-6), max_newton=max_newton,
+                                       continuation=continuation - 1)
+    return _newton(grid, mu, indenter, p0, lam, film=film, p_init=softer.pressure, rtol=rtol,
+                   max_newton=max_newton)
+
+
+def _newton(grid: Grid, mu: float, indenter, p0: float, lam: float, *,
+            film=None, p_init=None, rtol: float = 1e-9, max_newton: int = 100) -> ContactSolution:
     """Contact of one indenter (``physics.indenters``) on ``film`` through the interface law
     p = p0 exp(-g / lam).  Returns a ``ContactSolution`` whose ``gap`` is the interface gap g,
     ``active`` marks the nodes where p > p_max exp(-3) (the region the law has closed to within
