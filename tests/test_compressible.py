@@ -239,3 +239,36 @@ def test_normal_compliance_is_contactmechanics_layer():
         theirs = np.asarray(sub.greens_function)[:, 0]
         ours = Film(poisson=nu).surface_compliance((np.ones_like(k),), k, 0.0).real
         np.testing.assert_allclose(theirs, ours, rtol=1e-14)
+
+
+@pytest.mark.parametrize("nu", [0.0, 0.3, 0.49])
+def test_tangential_surface_symbol_matches_the_transfer_matrix(nu):
+    """u_x^ = [F2 q^ - i sgn(k) F1 p^] / (2G|k|) for the 3D solver's surface displacements."""
+    from spectral_contact.physics.transfer import compressible_tangential_function
+
+    def ux(k, h=1.0):  # the tangential displacement of layer_mode's state (a second solve)
+        lam = 2.0 * nu / (1.0 - 2.0 * nu)
+        M = np.zeros((4, 4), complex)
+        M[0, 1], M[0, 2] = -1j * k, 1.0
+        M[1, 0], M[1, 3] = -1j * k * lam / (lam + 2), 1.0 / (lam + 2)
+        M[2, 0] = k * k * (lam + 2 - lam**2 / (lam + 2))
+        M[2, 3] = -1j * k * lam / (lam + 2)
+        M[3, 2] = -1j * k
+        T = expm(M * h)
+        out = []
+        for top in ((1.0, 0.0), (0.0, -1.0)):
+            s0 = np.linalg.solve(T[2:, 2:], np.array(top, complex))
+            out.append((T[:, 2:] @ s0)[0])
+        return out
+    for k in (0.05, 0.7, -2.0, 5.0):
+        K = abs(k)
+        F2 = compressible_tangential_function(K, nu)
+        F1 = compressible_transfer_functions(K, nu)[1]
+        per_q, per_p = ux(k)
+        np.testing.assert_allclose(per_q, F2 / (2 * K), rtol=1e-9)
+        np.testing.assert_allclose(per_p, -1j * np.sign(k) * F1 / (2 * K), rtol=1e-9, atol=1e-13)
+    assert compressible_tangential_function(1e-8, nu) / 2e-8 == pytest.approx(1.0, rel=1e-7)
+    F2_half = compressible_tangential_function(np.array([0.3, 2.0]), 0.5)
+    K = np.array([0.3, 2.0])
+    np.testing.assert_allclose(F2_half, (np.sinh(2 * K) + 2 * K) / (np.cosh(2 * K) + 1 + 2 * K**2),
+                               rtol=1e-14)

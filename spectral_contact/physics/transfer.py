@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["transfer_functions", "F0", "F0_minus_1", "compressible_transfer_functions",
-           "compressible_decay_rate"]
+           "compressible_decay_rate", "compressible_tangential_function"]
 
 _SERIES_MAX = 1.0  # |2k| below which sinh(2k) - 2k is summed as a series
 
@@ -132,3 +132,22 @@ def compressible_decay_rate(nu: float) -> float:
     kap = 3.0 - 4.0 * float(nu)
     return float(brentq(lambda y: kap * np.cos(2.0 * y) - 2.0 * y * y + 0.5 * (1.0 + kap * kap),
                         0.0, 0.5 * np.pi, xtol=1e-15))
+
+
+def compressible_tangential_function(k, nu: float):
+    """F2 of the film of Poisson ratio ``nu``: the surface's tangential displacement along n per
+    tangential traction along n is F2 / (2 G |k|) (physics3d.md: u_L^ = [F2 q_L - i F1 p^] /
+    (2 G |k|), F1 of ``compressible_transfer_functions``), with
+
+        F2 = 2(1 - nu)(kappa sinh 2k + 2k) / D     ((sinh 2k + 2k)/D at nu = 1/2),
+
+    for the surface displacements of the 3D solver.  Limits: F2 -> 2(1 - nu) as k -> inf (the
+    half-space), F2 / (2|k|) -> 1 (i.e. h/G per unit shear: a uniform shear q displaces the
+    surface by q h / G) as k -> 0."""
+    k = np.minimum(np.abs(np.asarray(k, dtype=float)), 1e100)
+    nu = float(nu)
+    kap = 3.0 - 4.0 * nu
+    e2 = np.exp(-2.0 * k)
+    Dp = kap * (1.0 + e2 * e2) + (4.0 * k * k + 1.0 + kap * kap) * e2   # 2 exp(-2k) D
+    # 2 exp(-2k)(kappa sinh 2k + 2k) = kappa (1 - exp(-4k)) + 4k exp(-2k): no cancellation
+    return 2.0 * (1.0 - nu) * (kap * -np.expm1(-4.0 * k) + 4.0 * k * e2) / Dp
