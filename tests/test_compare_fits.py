@@ -95,3 +95,15 @@ def test_stated_sigmas_are_calibrated_over_noise_realisations():
                   (f["offset_m"] - TRUE["offset"]) / f["offset_sigma"]])
     rms = np.sqrt(np.mean(np.square(z), axis=0))
     assert np.all(rms > 0.5) and np.all(rms < 2.0), rms
+
+
+def test_compare_poisson_option(tmp_path, capsys):
+    f, _ = _synthetic_measurement(tmp_path, "exact", P=TRUE["load"], mu=TRUE["mu"],
+                                  offset=TRUE["offset"], eta=0.01)
+    png = tmp_path / "x.png"
+    assert main(["compare", str(f), "--poisson", "0.7", "--plot", str(png)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "poisson" in err and not png.exists()
+    assert main(["compare", str(f), "--poisson", "0.45", "--no-fit", "--json"]) == 0
+    rec = json.loads(capsys.readouterr().out)
+    assert rec["poisson"] == 0.45 and rec["chi_zz_exact"] > 0

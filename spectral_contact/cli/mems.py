@@ -65,6 +65,8 @@ def register(subparsers) -> None:
     p.add_argument("--radius", type=_positive("--radius"), default=0.130, help="R [m] (0.130)")
     p.add_argument("--thickness", type=_positive("--thickness"), default=0.002,
                    help="h [m] (0.002)")
+    p.add_argument("--poisson", type=float, default=0.5,
+                   help="nu of the models' film, in [0, 0.5] (0.5); --fit-poisson starts there")
     p.add_argument("--a-zz", type=_positive("--a-zz"), default=A_ZZ_MV_PER_BAR,
                    help=f"A_zz [mV/bar] for U files ({A_ZZ_MV_PER_BAR:.2f})")
     p.add_argument("--a-xz", type=_positive("--a-xz"), default=A_XZ_MV_PER_BAR,
@@ -124,15 +126,17 @@ def _cmd_compare(args) -> int:
     from ..api import check_tol
     from ..instruments.compare import FIT_KEYS, compare_models, fit_model, integral_estimates
     from ..instruments.measured_io import read_measured_profile
-    from ..physics.scene import Scene
+    from ..physics.scene import Scene, check_poisson
 
     tol = check_tol(args.tol)
+    check_poisson(args.poisson)
     plot = _writable(args.plot, "--plot")
     prof = read_measured_profile(args.measured)
     apparatus = _apparatus(args)
     Szz, Sxz = prof.stresses(args.a_zz, args.a_xz)
     P, mu = integral_estimates(prof.x_m, Szz, Sxz)
-    scene = Scene(load=P, mu=mu, young=args.young, radius=args.radius, thickness=args.thickness)
+    scene = Scene(load=P, mu=mu, young=args.young, radius=args.radius, thickness=args.thickness,
+                  poisson=args.poisson)
     models = compare_models(prof.x_m, Szz, Sxz, scene, tol=tol, apparatus=apparatus)
     ex, go = models["exact"], models["goodman"]
     fit, fit_note = None, "skipped (--no-fit)" if args.no_fit else "ok"
@@ -167,6 +171,7 @@ def _cmd_compare(args) -> int:
            "fit_chi_xz": fit["chi_xz"] if fit else nan,
            "fit_note": fit_note, "points": int(prof.x_m.size), "input": prof.kind,
            "young_Pa": args.young, "radius_m": args.radius, "thickness_m": args.thickness,
+           "poisson": scene.poisson,
            "fits": {name: {k: f[k] for k in FIT_KEYS + ("poisson", "poisson_sigma") if k in f}
                     for name, f in fits.items()},
            "best_model": min(fits, key=lambda k: fits[k]["aic"]) if fits else None}
