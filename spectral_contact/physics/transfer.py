@@ -15,6 +15,8 @@ F0, F1 give the surface compliance; A, B, C carry surface tractions to the rigid
 """
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 __all__ = ["transfer_functions", "F0", "F0_minus_1", "compressible_transfer_functions",
@@ -121,6 +123,7 @@ def compressible_transfer_functions(k, nu: float):
     return F0_, F1_, A_, B_, Bp_, C_
 
 
+@lru_cache(maxsize=64)
 def compressible_decay_rate(nu: float) -> float:
     """Slowest decay rate (in 1/h) of the kernels of a film of Poisson ratio ``nu``: the zero
     k = i y of D nearest the real axis, kappa cos 2y - 2y^2 + (1 + kappa^2)/2 = 0, unique on
