@@ -128,9 +128,9 @@ class Scene:
             # measured: the outer iteration settles on coarse grids but not under refinement
             # (the edge nodes keep flipping at 131072 points, nu = 0.45): a compressible film's
             # sinking kinks under the shear step tau_0 at the edge (its shear kernel ~ sgn x)
-            raise InputError("shear strength (tau_0) != 0 needs poisson 0.5: the shear step at the "
-                             "contact edge has no settled solution on a compressible film; got "
-                             f"poisson {self.poisson:g}")
+            raise InputError("shear strength (tau_0) != 0 needs poisson 0.5: with the shear step at "
+                             "the contact edge the friction-law iteration does not settle on a "
+                             f"compressible film; got poisson {self.poisson:g}")
         object.__setattr__(self, "young", check_positive("young (E)", self.young, "Pa"))
         object.__setattr__(self, "radius", check_positive("radius (R)", self.radius, "m"))
         object.__setattr__(self, "thickness", check_positive("thickness (h)", self.thickness, "m"))
