@@ -22,6 +22,8 @@ __all__ = ["register", "COMPARE_JSON_KEYS", "CALIBRATE_JSON_KEYS"]
 COMPARE_JSON_KEYS = ("load_N_per_m", "mu", "offset_m", "chi_zz_exact", "chi_xz_exact",
                      "chi_zz_goodman", "chi_xz_goodman", "fit_load_N_per_m", "fit_mu", "fits",
                      "best_model")
+_EXTRA_KEYS = ("poisson", "poisson_sigma", "interface_compliance_m_per_Pa",
+               "interface_compliance_sigma")
 CALIBRATE_JSON_KEYS = ("component", "method", "A_mV_per_bar", "A_lo_mV_per_bar",
                        "A_hi_mV_per_bar", "noise_sd_mV", "points", "out")
 
@@ -80,6 +82,9 @@ def register(subparsers) -> None:
     p.add_argument("--fit-poisson", action="store_true",
                    help="also fit the exact model with the film's Poisson ratio free (in [0, 0.5]):"
                         " fits['exact+poisson'] with poisson, poisson_sigma")
+    p.add_argument("--fit-interface", action="store_true",
+                   help="also fit the exact model with a linear interface compliance C >= 0 free:"
+                        " fits['exact+interface'] with interface_compliance_m_per_Pa and its sigma")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="FILE.png", help="measured points and both models")
     p.set_defaults(func=_cmd_compare)
@@ -151,13 +156,15 @@ def _cmd_compare(args) -> int:
                                        tol=tol, apparatus=apparatus)
             except (ConvergenceError, InputError) as exc:  # the comparison itself stands
                 fit_note = f"{name} fit failed: {exc}".splitlines()[0]
-        if args.fit_poisson:
+        for name, flag, kw in (("exact+poisson", args.fit_poisson, {"fit_poisson": True}),
+                               ("exact+interface", args.fit_interface, {"fit_interface": True})):
+            if not flag:
+                continue
             try:
-                fits["exact+poisson"] = fit_model(prof.x_m, Szz, Sxz, scene, ex["offset_m"],
-                                                  model="exact", tol=tol, apparatus=apparatus,
-                                                  fit_poisson=True)
+                fits[name] = fit_model(prof.x_m, Szz, Sxz, scene, ex["offset_m"], model="exact",
+                                       tol=tol, apparatus=apparatus, **kw)
             except (ConvergenceError, InputError) as exc:
-                fit_note = f"exact+poisson fit failed: {exc}".splitlines()[0]
+                fit_note = f"{name} fit failed: {exc}".splitlines()[0]
         fit = fits.get("exact")
     nan = float("nan")
     rec = {"load_N_per_m": P, "mu": mu, "offset_m": ex["offset_m"],
@@ -172,7 +179,7 @@ def _cmd_compare(args) -> int:
            "fit_note": fit_note, "points": int(prof.x_m.size), "input": prof.kind,
            "young_Pa": args.young, "radius_m": args.radius, "thickness_m": args.thickness,
            "poisson": scene.poisson,
-           "fits": {name: {k: f[k] for k in FIT_KEYS + ("poisson", "poisson_sigma") if k in f}
+           "fits": {name: {k: f[k] for k in FIT_KEYS + _EXTRA_KEYS if k in f}
                     for name, f in fits.items()},
            "best_model": min(fits, key=lambda k: fits[k]["aic"]) if fits else None}
     if plot is not None:
@@ -202,7 +209,10 @@ def _cmd_compare(args) -> int:
                 f"mu_d = {f['mu']:.4g} +- {f['mu_sigma']:.2g}, offset {f['offset_m'] * mm:.4f} "
                 f"+- {f['offset_sigma'] * mm:.2g} mm, chi_zz {f['chi_zz']:.4f}, "
                 f"chi_xz {f['chi_xz']:.4f}, AIC {f['aic']:.1f}"
-                + (f", nu = {f['poisson']:.4f} +- {f['poisson_sigma']:.2g}" if "poisson" in f else ""))
+                + (f", nu = {f['poisson']:.4f} +- {f['poisson_sigma']:.2g}" if "poisson" in f else "")
+                + (f", C = {f['interface_compliance_m_per_Pa']:.3g} +- "
+                   f"{f['interface_compliance_sigma']:.2g} m/Pa"
+                   if "interface_compliance_m_per_Pa" in f else ""))
         if fits:
             lines.append(f"  best model (AIC)     {rec['best_model']}")
         print("\n".join(lines))
@@ -225,7 +235,8 @@ def _plot_compare(path, prof, Szz, Sxz, models, fits, rec):
     shown = fits or models
     fig, axes = plt.subplots(4, 1, figsize=(7, 9), sharex=True,
                              gridspec_kw={"height_ratios": [3, 1.2, 3, 1.2]})
-    styles = {"exact": ("-", "C0"), "goodman": ("--", "C3"), "exact+poisson": ("-.", "C2")}
+    styles = {"exact": ("-", "C0"), "goodman": ("--", "C3"), "exact+poisson": ("-.", "C2"),
+              "exact+interface": (":", "C4")}
     for ax, rax, E, key, label in ((axes[0], axes[1], Szz, "S_zz_Pa", "S_zz [kPa] (+ compression)"),
                                    (axes[2], axes[3], Sxz, "S_xz_Pa", "S_xz [kPa]")):
         ax.plot(x[::step] * mm, E[::step] * kPa, "o", ms=3, mfc="none", color="k",

@@ -106,7 +106,8 @@ def compare_models(x_m, S_zz_Pa, S_xz_Pa, scene, tol: float = 1e-4, apparatus=No
 
 def fit_load_mu(x_m, S_zz_Pa, S_xz_Pa, scene, offset0: float, model: str = "exact",
                 tol: float = 1e-4, apparatus=None, max_solves: int = 80,
-                _keep_jacobian: bool = False, fit_poisson: bool = False) -> dict:
+                _keep_jacobian: bool = False, fit_poisson: bool = False,
+                fit_interface: bool = False) -> dict:
     """Least-squares fit of (P_L, mu_d, offset) of ``model`` to the measured profiles, from
     ``scene`` (its load and mu are the starting point) and ``offset0``.
 
@@ -125,13 +126,17 @@ def fit_load_mu(x_m, S_zz_Pa, S_xz_Pa, scene, offset0: float, model: str = "exac
     N, L = first.grid_points, first.domain_length * scene.length_unit
     cache = {}
     P0, mu0 = scene.load, scene.mu
+    names = (("poisson",) if fit_poisson else ()) + (("interface_compliance",) if fit_interface else ())
+    c_unit = scene.displacement_unit / scene.stress_unit  # m/Pa per unit of c
 
     def view(P, mu, *extra):
         key = (round(P, 12), round(mu, 12)) + tuple(round(e, 12) for e in extra)
         if key not in cache:
             if len(cache) >= max_solves:
                 raise InputError(f"fit of P_L and mu did not settle within {max_solves} solves")
-            changes = {"poisson": extra[0]} if extra else {}
+            changes = dict(zip(names, extra))
+            if "interface_compliance" in changes:  # fitted as c, the core's units
+                changes["interface_compliance"] = max(changes["interface_compliance"], 0.0) * c_unit
             r = solve(scene.with_(load=P, mu=mu, **changes), model=model, tol=tol, grid_points=N,
                       domain_length=L)
             cache[key] = model_view(r, apparatus)
@@ -146,11 +151,21 @@ def fit_load_mu(x_m, S_zz_Pa, S_xz_Pa, scene, offset0: float, model: str = "exac
     h = scene.thickness
     x0, x_scale = [0.0, mu0, offset0], [0.05, 0.05, 0.02 * h]
     diff_step, bounds = [1e-4, 1e-4 / max(abs(mu0), 1.0), 1e-5], (-np.inf, np.inf)
+    lo, hi = [-np.inf] * 3, [np.inf] * 3
     if fit_poisson:  # nu in [0, 0.5], from the scene's (0.5 started just inside)
         x0.append(min(scene.poisson, 0.49))
         x_scale.append(0.01)
         diff_step.append(1e-3)
-        bounds = ([-np.inf, -np.inf, -np.inf, 0.0], [np.inf, np.inf, np.inf, 0.5])
+        lo.append(0.0)
+        hi.append(0.5)
+    if fit_interface:  # c = C (G h/2R)/(h^2/2R) >= 0, from 0.05
+        x0.append(0.05)
+        x_scale.append(0.02)
+        diff_step.append(1e-3)
+        lo.append(0.0)
+        hi.append(np.inf)
+    if fit_poisson or fit_interface:
+        bounds = (lo, hi)
     sol = least_squares(residuals, x0=x0, x_scale=x_scale, diff_step=diff_step, bounds=bounds,
                         method="trf", xtol=1e-8, ftol=1e-10, gtol=1e-10, max_nfev=40)
     P, mu, o = P0 * math.exp(sol.x[0]), float(sol.x[1]), float(sol.x[2])
@@ -159,8 +174,11 @@ def fit_load_mu(x_m, S_zz_Pa, S_xz_Pa, scene, offset0: float, model: str = "exac
            "chi_zz": chi(Ezz, _shifted(xm, czz, x, o)),
            "chi_xz": chi(Exz, _shifted(xm, cxz, x, o)),
            "solves": len(cache) + 1, "x_m": xm, "S_zz_Pa": czz, "S_xz_Pa": cxz}
-    if fit_poisson:
-        out["poisson"] = float(sol.x[3])
+    for i, name in enumerate(names):
+        if name == "poisson":
+            out["poisson"] = float(sol.x[3 + i])
+        else:
+            out["interface_compliance_m_per_Pa"] = float(sol.x[3 + i]) * c_unit
     if _keep_jacobian:  # for fit_model's covariance: d(residual)/d(ln P, mu, offset)
         out["_jacobian"] = (np.asarray(sol.jac, dtype=float), nz, nx)
     return out
@@ -168,9 +186,10 @@ def fit_load_mu(x_m, S_zz_Pa, S_xz_Pa, scene, offset0: float, model: str = "exac
 
 def fit_model(x_m, S_zz_Pa, S_xz_Pa, scene, offset0: float, model: str = "exact",
               tol: float = 1e-4, apparatus=None, max_solves: int = 80,
-              fit_poisson: bool = False) -> dict:
+              fit_poisson: bool = False, fit_interface: bool = False) -> dict:
     """Direct least-squares fit of ``model`` (P_L, mu_d and the sensor-apex offset; with
-    ``fit_poisson`` also the film's Poisson ratio, in [0, 0.5]) with 1-sigma uncertainties and
+    ``fit_poisson`` also the film's Poisson ratio, in [0, 0.5]; with ``fit_interface`` a linear
+    interface compliance C >= 0) with 1-sigma uncertainties and
     an information criterion.
 
     The fit is ``fit_load_mu``'s (same objective, each component normalised by its norm).  Then:
@@ -186,12 +205,13 @@ def fit_model(x_m, S_zz_Pa, S_xz_Pa, scene, offset0: float, model: str = "exact"
     Returns {"model", "load_N_per_m", "load_sigma", "mu", "mu_sigma", "offset_m",
     "offset_sigma", "chi_zz", "chi_xz", "aic", "sigma_zz_Pa", "sigma_xz_Pa", "solves", "x_m",
     "S_zz_Pa", "S_xz_Pa"} (the last three: the fitted model's curves, apex frame), plus
-    "poisson", "poisson_sigma" with ``fit_poisson``.
+    "poisson", "poisson_sigma" with ``fit_poisson`` and "interface_compliance_m_per_Pa",
+    "interface_compliance_sigma" with ``fit_interface``.
     """
     out = fit_load_mu(x_m, S_zz_Pa, S_xz_Pa, scene, offset0, model=model, tol=tol,
                       apparatus=apparatus, max_solves=max_solves, _keep_jacobian=True,
-                      fit_poisson=fit_poisson)
-    k = 4 if fit_poisson else 3
+                      fit_poisson=fit_poisson, fit_interface=fit_interface)
+    k = 3 + int(fit_poisson) + int(fit_interface)
     x = np.asarray(x_m, dtype=float)
     Ezz, Exz = np.asarray(S_zz_Pa, float), np.asarray(S_xz_Pa, float)
     n = x.size
@@ -215,6 +235,9 @@ def fit_model(x_m, S_zz_Pa, S_xz_Pa, scene, offset0: float, model: str = "exact"
                 "sigma_zz_Pa": sig["zz"], "sigma_xz_Pa": sig["xz"]})
     if fit_poisson:
         out["poisson_sigma"] = float(sd[3])
+    if fit_interface:
+        out["interface_compliance_sigma"] = float(sd[k - 1]) * (scene.displacement_unit
+                                                                 / scene.stress_unit)
     return out
 
 
