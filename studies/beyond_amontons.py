@@ -18,6 +18,8 @@ A. Refinements at four operating points spanning the paper's measured range (P_L
    * a linear interface compliance C = lambda / p_mean, the exponential rough-contact law
      p = p0 exp(-g/lambda) linearised at the contact's mean pressure, lambda = 1.8 um (the
      film's rms roughness) and lambda / 3;
+   * the exponential law itself, lambda = 1.8 um (p0 does not matter: it only shifts the
+     indentation);
    * mu(p) = mu_d (p / p_ref)^(-n) with n = ln(1.5/1.36)/ln(2.75/0.34) = 0.047 (Q/P falling
      from 1.5 to 1.36 while P rises from 0.34 to 2.75 N, as the paper measured: the exponent
      if the contact pressure scaled like P) and 3n, p_ref the operating point's mean contact
@@ -70,6 +72,11 @@ def refinements(load, mu, tol, quick):
     if not quick:
         out.append((f"C = lambda/p_mean, lambda {LAMBDA * 1e6 / 3:.1f} um",
                     {"interface_compliance": LAMBDA / 3 / p_mean}))
+    # the exponential law itself: its pressure does not depend on p0 (p0 only shifts the
+    # indentation), so lambda alone sets it
+    out.append((f"exponential, lambda {LAMBDA * 1e6:.1f} um",
+                {"interface_law": "exponential", "interface_pressure": 1e5,
+                 "interface_length": LAMBDA}))
     out.append((f"power n {N_PAPER:.3f}", {"friction_law": "power", "friction_exponent": N_PAPER,
                                           "friction_pref": p_mean}))
     if not quick:
