@@ -272,3 +272,31 @@ def test_tangential_surface_symbol_matches_the_transfer_matrix(nu):
     K = np.array([0.3, 2.0])
     np.testing.assert_allclose(F2_half, (np.sinh(2 * K) + 2 * K) / (np.cosh(2 * K) + 1 + 2 * K**2),
                                rtol=1e-14)
+
+
+def test_compressible_film_on_a_two_dimensional_grid_is_plane_strain():
+    """The compressible symbols through the n-D core: a y-independent cylinder on a 2D grid
+    gives the 1D (plane-strain) solution on every row, friction law and interface included."""
+    from spectral_contact.numerics.contact import solve_contact
+    from spectral_contact.numerics.friction import solve_contact_law
+    from spectral_contact.numerics.grid import Grid
+    from spectral_contact.physics.friction import ShearLaw
+    from spectral_contact.physics.indenters import Cylinder
+
+    film = Film(poisson=0.3)
+    P = 17.7
+    g1 = Grid.centered(256, 16.0, 0.6)
+    g2 = Grid.centered((256, 4), (16.0, 1.0), (0.6, 0.0))
+    s1 = solve_contact(g1, 1.5, [Cylinder(0.0, P)], film=film)
+    s2 = solve_contact(g2, 1.5, [Cylinder(0.0, P)], film=film)
+    np.testing.assert_array_equal(s2.active, np.repeat(s1.active[:, None], 4, axis=1))
+    np.testing.assert_allclose(s2.pressure, s1.pressure[:, None] + 0 * s2.pressure,
+                               atol=1e-8 * s1.pressure.max())
+    law = ShearLaw("power", mu=1.5, exponent=0.2, pref=3.0)
+    l1, q1, _ = solve_contact_law(g1, law, [Cylinder(0.0, P)], film=film, interface=0.1,
+                                  accept=1e-8, law_tol=1e-9)
+    l2, q2, _ = solve_contact_law(g2, law, [Cylinder(0.0, P)], film=film, interface=0.1,
+                                  accept=1e-8, law_tol=1e-9)
+    np.testing.assert_allclose(l2.pressure, l1.pressure[:, None] + 0 * l2.pressure,
+                               atol=1e-7 * l1.pressure.max())
+    np.testing.assert_allclose(q2, q1[:, None] + 0 * q2, atol=1e-7 * np.abs(q1).max())
