@@ -1,7 +1,8 @@
 """spectral_contact: a rigid cylinder sliding with Amontons friction on an incompressible elastic
 film bonded to a rigid base (plane strain) -- contact pressure, base stresses, MEMS sensor view.
 
-Front door: ``solve(...) -> ContactResult``; ``Scene`` holds the SI inputs.
+Front door: ``solve(...) -> ContactResult``; ``Scene`` holds the SI inputs;
+``sensor(result) -> SensorView`` is the MEMS sensor's view (imported on first use).
 """
 from .api import METHODS, MODELS, solve
 from .errors import ConvergenceError, InputError, SpectralContactError
@@ -9,5 +10,18 @@ from .physics.scene import PAPER_SCENE, Scene
 from .result import ContactResult
 
 __all__ = ["solve", "Scene", "PAPER_SCENE", "ContactResult", "InputError", "ConvergenceError",
-           "SpectralContactError", "METHODS", "MODELS"]
+           "SpectralContactError", "METHODS", "MODELS", "sensor", "SensorView", "__version__"]
 __version__ = "0.1.0"
+
+_LAZY = {"sensor": "spectral_contact.instruments.mems_view",
+         "SensorView": "spectral_contact.instruments.mems_view"}
+
+
+def __getattr__(name):  # the sensor view needs scipy.special: imported on first use only
+    if name in _LAZY:
+        import importlib
+
+        value = getattr(importlib.import_module(_LAZY[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'spectral_contact' has no attribute {name!r}")

@@ -12,7 +12,8 @@ import numpy as np
 
 from .physics.scene import Scene
 
-__all__ = ["ContactResult", "JSON_KEYS", "PROFILE_COLUMNS", "COUNTER_KEYS"]
+__all__ = ["ContactResult", "ContactResult3D", "JSON_KEYS", "JSON_KEYS_3D", "MAP_KEYS",
+           "PROFILE_COLUMNS", "COUNTER_KEYS"]
 
 COUNTER_KEYS = ("transforms", "iterations", "linear_iterations")
 """Work counters every method fills (``ContactResult.counters``): FFT pairs (forward +
@@ -23,15 +24,17 @@ level of the resolution control."""
 JSON_KEYS = (
     "model", "method", "load_N_per_m", "mu", "young_Pa", "poisson", "radius_m", "thickness_m",
     "half_width_m", "contact_center_m", "x0_m", "indentation_m", "max_pressure_Pa",
-    "max_pressure_x_m", "friction_law", "Q_over_P", "interface_compliance_m_per_Pa", "interface_law",
-    "grid_points",
-    "domain_length_m", "iterations", "residual",
-    "error_estimate", "wall_time_s", "plan_time_s",
+    "max_pressure_x_m", "contact_intervals_m", "friction_law", "Q_over_P",
+    "interface_compliance_m_per_Pa", "interface_law", "grid_points", "domain_length_m",
+    "iterations", "residual", "error_estimate", "wall_time_s", "plan_time_s",
 )
 PROFILE_COLUMNS = ("x_m", "pressure_Pa", "surface_shear_Pa", "base_sigma_zz_Pa", "base_sigma_xz_Pa")
+_SCALARS = ("half_width", "center", "indentation", "max_pressure", "max_pressure_x", "grid_points",
+            "domain_length", "iterations", "residual", "error_estimate")
+_ARRAYS = ("x", "pressure", "base_sigma_zz", "base_sigma_xz")
 
 
-@dataclass
+@dataclass(repr=False, eq=False)
 class ContactResult:
     """Solution of one scene.
 
@@ -52,6 +55,12 @@ class ContactResult:
     (solve only), plan_time_s (FFT planning), info (free-form dict: method details),
     counters (``COUNTER_KEYS``: transforms, iterations, linear_iterations; the same for every
     method).
+
+    SI views: every key of the JSON record (``JSON_KEYS``) is an attribute of the same name
+    (``r.half_width_m``, ``r.x0_m``, ``r.max_pressure_Pa``, ``r.contact_intervals_m``, ...);
+    ``r.to_dict()`` is the record, ``r.profiles()`` the SI profiles named like the CSV columns
+    (``pandas.DataFrame(r.profiles())``), ``r.plot()`` a matplotlib Figure.  ``repr(r)`` is a
+    one-line SI summary; ``r == r2`` compares numbers and profiles (timings ignored).
     """
 
     scene: Scene
@@ -120,48 +129,158 @@ class ContactResult:
 
     @property
     def half_width_m(self) -> float:
-        return self.half_width * self.scene.length_unit
+        """a, contact half-width [m] (of the envelope when the contact splits)."""
+        return float(self.half_width * self.scene.length_unit)
 
     @property
     def contact_center_m(self) -> float:
-        return self.center * self.scene.length_unit
+        """x_c, contact centre relative to the apex [m] (> 0: toward the sliding direction)."""
+        return float(self.center * self.scene.length_unit) + 0.0
 
     @property
     def indentation_m(self) -> float:
-        return self.indentation * self.scene.displacement_unit
+        """d, indentation depth [m] (the paper's 1/alpha)."""
+        return float(self.indentation * self.scene.displacement_unit)
+
+    @property
+    def load_N_per_m(self) -> float:
+        """P_L, the lineic load [N/m]."""
+        return self.scene.load
+
+    @property
+    def mu(self) -> float:
+        """mu_d, the signed friction coefficient (> 0: sliding toward +x)."""
+        return self.scene.mu
+
+    @property
+    def poisson(self) -> float:
+        return self.scene.poisson
+
+    @property
+    def friction_law(self) -> str:
+        return self.scene.friction_law
+
+    @property
+    def Q_over_P(self) -> float:  # noqa: N802 (the JSON key)
+        """The macroscopic Q/P (``friction_ratio``)."""
+        return self.friction_ratio
+
+    @property
+    def interface_compliance_m_per_Pa(self) -> float:
+        return self.scene.interface_compliance
+
+    @property
+    def interface_law(self) -> str:
+        return self.scene.interface_law
+
+    @property
+    def young_Pa(self) -> float:
+        """E, the film's Young modulus [Pa]."""
+        return self.scene.young
+
+    @property
+    def radius_m(self) -> float:
+        """R, the cylinder's radius [m]."""
+        return self.scene.radius
+
+    @property
+    def thickness_m(self) -> float:
+        """h, the film's thickness [m]."""
+        return self.scene.thickness
+
+    @property
+    def x0_m(self) -> float:
+        """The paper's x0 [m]: apex relative to the contact centre (= -contact_center_m)."""
+        return float(-self.center * self.scene.length_unit) + 0.0  # + 0.0: no "-0.0"
+
+    @property
+    def max_pressure_Pa(self) -> float:
+        """Peak pressure [Pa]."""
+        return float(self.max_pressure * self.scene.stress_unit)
+
+    @property
+    def max_pressure_x_m(self) -> float:
+        """Where the pressure peaks [m], apex frame."""
+        return float(self.max_pressure_x * self.scene.length_unit)
+
+    @property
+    def domain_length_m(self) -> float:
+        """Length covered by the profiles [m]: the FFT period, or the Abel sampling window."""
+        return float(self.domain_length * self.scene.length_unit)
+
+    @property
+    def contact_intervals(self) -> list[tuple[float, float]]:
+        """The contact as a list of (start, end) intervals in h, apex frame, sorted.
+
+        One interval [x_c - a, x_c + a] for a simply connected contact; several when the contact
+        splits (e.g. mu_d beyond ~95 at the paper's load): the outer ends are then x_c -+ a (the
+        grid-averaged envelope) and the inner ends the sub-grid edges fitted on the final grid.
+        Empty at zero load."""
+        if not self.half_width > 0:
+            return []
+        lo, hi = self.center - self.half_width, self.center + self.half_width
+        edges = sorted((float(e[0]), float(e[1])) for e in (self.info.get("edges") or ()))
+        if len(edges) <= 1:
+            return [(float(lo), float(hi))]
+        out = [list(e) for e in edges]
+        out[0][0], out[-1][1] = lo, hi
+        return [(float(a), float(b)) for a, b in out]
+
+    @property
+    def contact_intervals_m(self) -> list[list[float]]:
+        """``contact_intervals`` in metres, as [[start, end], ...] (the JSON form)."""
+        L = self.scene.length_unit
+        return [[a * L + 0.0, b * L + 0.0] for a, b in self.contact_intervals]
+
+    @property
+    def auto_reason(self) -> str | None:
+        """With model "auto": which model was chosen and why (else None)."""
+        return self.info.get("auto_reason")
+
+    def to_dict(self) -> dict:
+        """The JSON record (all SI; ``--json`` prints it): the keys of ``JSON_KEYS``, plus
+        ``auto_reason`` with model "auto".  Each key is also an attribute of the same name."""
+        rec = {key: getattr(self, key) for key in JSON_KEYS}
+        for key, value in rec.items():
+            if isinstance(value, np.generic):
+                rec[key] = value.item()
+        rec |= self.scene.friction.describe()  # the law's parameters (none for Amontons)
+        if self.scene.interface_law == "exponential":
+            rec |= {"interface_pressure_Pa": self.scene.interface_pressure,
+                    "interface_length_m": self.scene.interface_length}
+        if self.auto_reason is not None:
+            rec["auto_reason"] = self.auto_reason
+        return rec
 
     def summary(self) -> dict:
-        """The JSON record (all SI); see ``JSON_KEYS``."""
-        s, L = self.scene, self.scene.length_unit
-        return {
-            "model": self.model,
-            "method": self.method,
-            "load_N_per_m": s.load,
-            "mu": s.mu,
-            "young_Pa": s.young,
-            "poisson": s.poisson,
-            "radius_m": s.radius,
-            "thickness_m": s.thickness,
-            "half_width_m": float(self.half_width * L),
-            "contact_center_m": float(self.center * L) + 0.0,
-            "x0_m": float(-self.center * L) + 0.0,  # + 0.0: no "-0.0" for a centred contact
-            "indentation_m": float(self.indentation * s.displacement_unit),
-            "max_pressure_Pa": float(self.max_pressure * s.stress_unit),
-            "max_pressure_x_m": float(self.max_pressure_x * L),
-        } | s.friction.describe() | {
-            "Q_over_P": self.friction_ratio,
-            "interface_compliance_m_per_Pa": s.interface_compliance,
-            "interface_law": s.interface_law,
-        } | ({"interface_pressure_Pa": s.interface_pressure, "interface_length_m": s.interface_length}
-             if s.interface_law == "exponential" else {}) | {
-            "grid_points": int(self.grid_points),
-            "domain_length_m": float(self.domain_length * L),
-            "iterations": int(self.iterations),
-            "residual": float(self.residual),
-            "error_estimate": float(self.error_estimate),
-            "wall_time_s": float(self.wall_time_s),
-            "plan_time_s": float(self.plan_time_s),
-        } | ({"auto_reason": self.info["auto_reason"]} if "auto_reason" in self.info else {})
+        """The JSON record (same as ``to_dict()``)."""
+        return self.to_dict()
+
+    # --- notebook niceties --------------------------------------------------------------------
+    def __repr__(self) -> str:
+        s = self.scene
+        mm, kPa = 1e3, 1e-3
+        n = len(self.contact_intervals)
+        split = f" in {n} intervals" if n > 1 else ""
+        return (f"<ContactResult {self.model}/{self.method}: P_L={s.load:g} N/m, mu_d={s.mu:g}, "
+                f"E={s.young / 1e6:g} MPa, R={s.radius * mm:g} mm, h={s.thickness * mm:g} mm | "
+                f"a={self.half_width_m * mm:.5g} mm{split}, x0={self.x0_m * mm:.5g} mm, "
+                f"d={self.indentation_m * 1e6:.5g} um, p_max={self.max_pressure_Pa * kPa:.5g} kPa | "
+                f"N={self.grid_points}, error estimate {self.error_estimate:.1e}>")
+
+    def __eq__(self, other) -> bool:
+        """Equal when scene, model, method, every scalar and every profile are equal (timings,
+        ``info`` ignored).  Never raises (arrays are compared whole)."""
+        if not isinstance(other, ContactResult):
+            return NotImplemented
+        if (self.scene, self.model, self.method) != (other.scene, other.model, other.method):
+            return False
+        for name in _SCALARS:
+            if getattr(self, name) != getattr(other, name):
+                return False
+        return all(np.array_equal(getattr(self, n), getattr(other, n)) for n in _ARRAYS)
+
+    __hash__ = None  # mutable: not hashable
 
     def profiles(self) -> dict:
         """Profile columns in SI (see ``PROFILE_COLUMNS``), apex frame."""
@@ -172,3 +291,347 @@ class ContactResult:
             "base_sigma_zz_Pa": self.base_sigma_zz_Pa,
             "base_sigma_xz_Pa": self.base_sigma_xz_Pa,
         }
+
+    def plot(self, ax=None, sensor=None):
+        """Draw the profiles; return the matplotlib ``Figure``.
+
+        Panels (x in mm from the indenter apex, +x the sliding direction; stresses in kPa):
+        surface pressure p (left axis) and surface shear mu_d p (right axis, its own scale);
+        base stresses sigma_zz(x, 0) (< 0 in compression) and sigma_xz(x, 0); with ``sensor``
+        (a ``SensorView`` from ``spectral_contact.sensor``, or a dict with ``S_zz_Pa``,
+        ``S_xz_Pa`` on ``x_m``) the MEMS view S_zz (> 0 in compression), S_xz.  The contact
+        interval(s) are shaded; the x range is the contact plus 2 h on each side (the surface
+        panel zooms on the contact when the contact is small against that range).
+
+        ax : None (a new Figure with every panel), one matplotlib Axes (the surface panel only)
+             or a sequence of Axes (one per panel, in the order above).
+
+        matplotlib is imported here only (the rest of the package does not need it).
+        """
+        return _plot(self, ax, sensor)
+
+
+def _xrange_mm(result, margin_h: float = 2.0):
+    """Plot range [mm]: the contact plus ``margin_h`` film thicknesses on each side."""
+    L, mm = result.scene.length_unit, 1e3
+    x = result.x_m * mm
+    iv = result.contact_intervals
+    lo, hi = (iv[0][0], iv[-1][1]) if iv else (0.0, 0.0)
+    lo, hi = (lo - margin_h) * L * mm, (hi + margin_h) * L * mm
+    return max(lo, x.min()), min(hi, x.max())
+
+
+def _plot(result, ax=None, sensor=None):
+    from matplotlib.figure import Figure
+
+    s = result.scene
+    mm, kPa = 1e3, 1e-3
+    if sensor is not None and not isinstance(sensor, dict):
+        sensor = sensor.profiles()
+    nrow = 3 if sensor is not None else 2
+    if ax is None:
+        fig = Figure(figsize=(7.0, 2.5 * nrow + 0.5), layout="constrained")
+        axes = list(fig.subplots(nrow, 1))
+    elif hasattr(ax, "plot"):
+        axes, fig = [ax], ax.figure
+    else:
+        axes = list(ax)
+        fig = axes[0].figure
+    x = result.x_m * mm
+    xs = None
+    if sensor is not None:
+        xs = np.asarray(sensor.get("x_m", result.x_m), dtype=float) * mm
+    lo, hi = _xrange_mm(result)
+    sel = (x >= lo) & (x <= hi)
+    intervals = [(a * s.length_unit * mm, b * s.length_unit * mm) for a, b in result.contact_intervals]
+
+    def mark_contact(a, label=False):
+        for i, (u, v) in enumerate(intervals):
+            a.axvspan(u, v, color="0.9", zorder=0,
+                      label="contact" if (label and i == 0) else None)
+        a.axhline(0.0, color="0.6", lw=0.5, zorder=1)
+
+    a0 = axes[0]
+    mark_contact(a0, label=True)
+    a0.plot(x[sel], result.pressure_Pa[sel] * kPa, color="C0", label="pressure p = -sigma_zz(x, h)")
+    a0.set_ylabel("pressure p [kPa]", color="C0")
+    handles, labels = a0.get_legend_handles_labels()
+    leg_ax = a0
+    if s.mu != 0.0:
+        tw = a0.twinx()
+        tw.plot(x[sel], result.surface_shear_Pa[sel] * kPa, "--", color="C3",
+                label=("surface shear sigma_xz(x, h) (right axis)" if result.shear is not None
+                       else f"surface shear sigma_xz(x, h) = {s.mu:g} p (right axis)"))
+        tw.set_ylabel("surface shear [kPa]", color="C3")
+        lo_p, hi_p = a0.get_ylim()
+        # the right axis is the left one times mu_d: the curves coincide (mirror for mu_d < 0)
+        tw.set_ylim(lo_p * s.mu, hi_p * s.mu) if s.mu > 0 else tw.set_ylim(hi_p * s.mu, lo_p * s.mu)
+        h2, l2 = tw.get_legend_handles_labels()
+        handles, labels = handles + h2, labels + l2
+        leg_ax = tw
+    leg_ax.legend(handles, labels, fontsize=7, loc="lower left", bbox_to_anchor=(0.0, 1.0),
+                  ncols=2, frameon=False, borderaxespad=0.2)
+    split = f"; contact in {len(intervals)} intervals" if len(intervals) > 1 else ""
+    if ax is None:  # a figure of our own: the scene as its title
+        fig.suptitle(f"{result.model} model ({result.method}): P_L = {s.load:g} N/m, mu_d = {s.mu:g}, "
+                     f"E = {s.young / 1e6:g} MPa, R = {s.radius * mm:g} mm, h = {s.thickness * mm:g} mm"
+                     f"{split}", fontsize=8)
+    if len(axes) > 1:
+        a1 = axes[1]
+        mark_contact(a1)
+        a1.plot(x[sel], result.base_sigma_zz_Pa[sel] * kPa, color="C0", label="sigma_zz(x, 0)")
+        a1.plot(x[sel], result.base_sigma_xz_Pa[sel] * kPa, color="C3", label="sigma_xz(x, 0)")
+        a1.set_ylabel("base stress [kPa]")
+        a1.legend(fontsize=7, loc="best", title="sigma_zz < 0 in compression", title_fontsize=7)
+    if sensor is not None and len(axes) > 2:
+        a2 = axes[2]
+        mark_contact(a2)
+        ss = (xs >= lo) & (xs <= hi)
+        a2.plot(xs[ss], np.asarray(sensor["S_zz_Pa"])[ss] * kPa, color="C0", label="S_zz (> 0 compression)")
+        a2.plot(xs[ss], np.asarray(sensor["S_xz_Pa"])[ss] * kPa, color="C3", label="S_xz")
+        a2.set_ylabel("MEMS view S [kPa]")
+        a2.legend(fontsize=7, loc="best")
+    xlabel = "x [mm] from the indenter apex (sliding toward +x)"
+    for a in axes:
+        a.set_xlim(lo, hi)
+    if intervals and len(axes) > 1:
+        u, v = intervals[0][0], intervals[-1][1]
+        if v - u < 0.25 * (hi - lo):  # a small contact: its own zoom on the surface panel
+            pad = 0.25 * (v - u)
+            a0.set_xlim(u - pad, v + pad)
+            a0.set_xlabel(xlabel + ", zoomed on the contact", fontsize=8)
+    for a in axes[1:-1]:  # the base and sensor panels share the range: one label at the bottom
+        a.sharex(axes[-1])
+        a.tick_params(labelbottom=False)
+    axes[-1].set_xlabel(xlabel)
+    return fig
+
+JSON_KEYS_3D = (
+    "model", "method", "indenter", "force_N", "mu", "young_Pa", "radius_m", "thickness_m",
+    "contact_area_m2", "contact_radius_m", "contact_x_min_m", "contact_x_max_m",
+    "contact_y_half_width_m", "pressure_centroid_x_m", "indentation_m", "max_pressure_Pa",
+    "max_pressure_x_m", "max_pressure_y_m", "line_load_y0_N_per_m", "grid_points",
+    "domain_length_m", "iterations", "residual", "error_estimate", "wall_time_s", "plan_time_s",
+)
+"""JSON keys of a 3D result (+ length_m for a cylinder, radius_x_m and radius_y_m for a
+paraboloid)."""
+_ARRAYS_3D = ("x", "y", "pressure", "base_sigma_zz", "base_sigma_xz", "base_sigma_yz",
+              "surface_ux", "surface_uy", "surface_uz")
+MAP_KEYS = ("x_m", "y_m", "pressure_Pa", "base_sigma_zz_Pa", "base_sigma_xz_Pa", "base_sigma_yz_Pa",
+            "surface_ux_m", "surface_uy_m", "surface_uz_m")
+
+
+@dataclass(repr=False, eq=False)
+class ContactResult3D:
+    """Solution of one 3D scene (``physics.scene.Scene3D``): fields on the surface grid.
+
+    Dimensionless (lengths in h, displacements in h^2/2R, stresses in E h/6R), arrays indexed
+    [x, y] on the axes ``x`` (nx) and ``y`` (ny), apex at (0, 0), x the sliding direction:
+
+    pressure                       p >= 0 (= -sigma_zz(x, y, h))
+    base_sigma_zz, _xz, _yz        base tractions (sigma_zz < 0 in compression)
+    surface_ux, _uy, _uz           surface displacements (u_z > 0 upward: the film sinks, u_z < 0)
+    measures : dict                area, x_min, x_max, y_min, y_max, pmax, xmax, ymax, xc,
+                                   load, line_load_y0 (``numerics.measure2d``), indentation
+    error_estimate                 relative, of the contact radius, centroid (relative to the
+                                   radius), indentation, line load at y = 0 and peak pressure
+    counters                       transforms, iterations, linear_iterations
+
+    As in 2D: every JSON key (``JSON_KEYS_3D``) is an attribute of the same name
+    (``r.contact_radius_m``, ``r.max_pressure_Pa``, ...), ``r.to_dict()`` is the record,
+    ``r.maps()`` / ``r.profiles()`` the SI arrays, ``r.plot(sensor=None)`` a Figure of the maps,
+    ``repr(r)`` a one-line SI summary, ``r == r2`` compares numbers and fields.
+    """
+
+    scene: object
+    model: str
+    method: str
+    x: np.ndarray
+    y: np.ndarray
+    pressure: np.ndarray
+    base_sigma_zz: np.ndarray
+    base_sigma_xz: np.ndarray
+    base_sigma_yz: np.ndarray
+    surface_ux: np.ndarray
+    surface_uy: np.ndarray
+    surface_uz: np.ndarray
+    measures: dict
+    grid_points: tuple
+    domain_length: tuple
+    iterations: int
+    residual: float
+    error_estimate: float
+    wall_time_s: float = 0.0
+    plan_time_s: float = 0.0
+    info: dict = field(default_factory=dict)
+    counters: dict = field(default_factory=lambda: dict.fromkeys(COUNTER_KEYS, 0))
+
+    @property
+    def indentation(self) -> float:
+        return self.measures["indentation"]
+
+    @property
+    def contact_radius(self) -> float:
+        """sqrt(area / pi), in h."""
+        return float(np.sqrt(self.measures["area"] / np.pi))
+
+    def __getattr__(self, name):
+        # the JSON record's keys as attributes (only names not found otherwise come here)
+        if name.endswith(("_m", "_m2", "_Pa", "_N", "_N_per_m")) or name in ("indenter",):
+            rec = self.summary()
+            if name in rec:
+                return rec[name]
+        raise AttributeError(f"{type(self).__name__!r} has no attribute {name!r}")
+
+    def to_dict(self) -> dict:
+        """The JSON record (same as ``summary()``)."""
+        return self.summary()
+
+    def __repr__(self) -> str:
+        s, r = self.scene, self.summary()
+        mm = 1e3
+        return (f"<ContactResult3D {self.model}/{self.method} {s.indenter}: F={s.force:g} N, "
+                f"mu_d={s.mu:g} | contact radius {r['contact_radius_m'] * mm:.5g} mm, x "
+                f"{r['contact_x_min_m'] * mm:.4g}..{r['contact_x_max_m'] * mm:.4g} mm, "
+                f"d={r['indentation_m'] * 1e6:.5g} um, p_max={r['max_pressure_Pa'] / 1e3:.5g} kPa | "
+                f"grid {self.grid_points[0]}x{self.grid_points[1]}, error estimate "
+                f"{self.error_estimate:.1e}>")
+
+    def __eq__(self, other) -> bool:
+        """Equal when scene, model, method, measures and every field are equal (timings and
+        ``info`` ignored)."""
+        if not isinstance(other, ContactResult3D):
+            return NotImplemented
+        if (self.model, self.method, self.measures) != (other.model, other.method, other.measures):
+            return False
+        if self.scene != other.scene:
+            return False
+        return all(np.array_equal(getattr(self, n), getattr(other, n)) for n in _ARRAYS_3D)
+
+    __hash__ = None
+
+    def plot(self, sensor: dict | None = None, window: float = 3.0):
+        """Maps of the pressure and the three base tractions (with ``sensor``, from
+        ``instruments.sensor.sensor_maps``, the MEMS maps as iso-lines), x the sliding direction
+        in mm from the apex, stresses in kPa, the contact outlined; returns the Figure.
+        ``window``: film thicknesses shown beyond the contact."""
+        return _plot_maps(self, sensor, window)
+
+    def summary(self) -> dict:
+        """The JSON record (all SI); see ``JSON_KEYS_3D``."""
+        s, L = self.scene, self.scene.length_unit
+        m, S = self.measures, self.scene.stress_unit
+        out = {
+            "model": self.model, "method": self.method, "indenter": s.indenter,
+            "force_N": s.force, "mu": s.mu, "young_Pa": s.young, "radius_m": s.radius,
+            "thickness_m": s.thickness,
+        }
+        if s.indenter == "cylinder":
+            out["length_m"] = s.length
+        if s.indenter == "paraboloid":
+            out["radius_x_m"], out["radius_y_m"] = s.radius_x, s.radius_y
+        out.update({
+            "contact_area_m2": float(m["area"] * L * L),
+            "contact_radius_m": float(self.contact_radius * L),
+            "contact_x_min_m": float(m["x_min"] * L) + 0.0,
+            "contact_x_max_m": float(m["x_max"] * L) + 0.0,
+            "contact_y_half_width_m": float(0.5 * (m["y_max"] - m["y_min"]) * L),
+            "pressure_centroid_x_m": float(m["xc"] * L) + 0.0,
+            "indentation_m": float(m["indentation"] * s.displacement_unit),
+            "max_pressure_Pa": float(m["pmax"] * S),
+            "max_pressure_x_m": float(m["xmax"] * L) + 0.0,
+            "max_pressure_y_m": float(m["ymax"] * L) + 0.0,
+            "line_load_y0_N_per_m": float(m["line_load_y0"] * S * L),
+            "grid_points": [int(n) for n in self.grid_points],
+            "domain_length_m": [float(d * L) for d in self.domain_length],
+            "iterations": int(self.iterations),
+            "residual": float(self.residual),
+            "error_estimate": float(self.error_estimate),
+            "wall_time_s": float(self.wall_time_s),
+            "plan_time_s": float(self.plan_time_s),
+        })
+        return out
+
+    def maps(self) -> dict:
+        """The surface and base fields in SI, named as ``MAP_KEYS`` ((nx, ny) arrays [x, y])."""
+        s = self.scene
+        L, S, U = s.length_unit, s.stress_unit, s.displacement_unit
+        return {
+            "x_m": self.x * L, "y_m": self.y * L,
+            "pressure_Pa": self.pressure * S,
+            "base_sigma_zz_Pa": self.base_sigma_zz * S,
+            "base_sigma_xz_Pa": self.base_sigma_xz * S,
+            "base_sigma_yz_Pa": self.base_sigma_yz * S,
+            "surface_ux_m": self.surface_ux * U,
+            "surface_uy_m": self.surface_uy * U,
+            "surface_uz_m": self.surface_uz * U,
+        }
+
+    def profiles(self) -> dict:
+        """The y = 0 line (the grid line nearest it) in SI, with the 2D profile columns."""
+        j = int(np.argmin(np.abs(self.y)))
+        s = self.scene
+        L, S = s.length_unit, s.stress_unit
+        return {
+            "x_m": self.x * L,
+            "pressure_Pa": self.pressure[:, j] * S,
+            "surface_shear_Pa": s.mu * self.pressure[:, j] * S,
+            "base_sigma_zz_Pa": self.base_sigma_zz[:, j] * S,
+            "base_sigma_xz_Pa": self.base_sigma_xz[:, j] * S,
+        }
+
+
+def _plot_maps(result, sensor, window):
+    """3D result: maps of the pressure and of the three base tractions (and the MEMS maps
+    S_zz, S_xz, S_yz with ``sensor``, drawn like the paper's measured field: iso-lines), x the
+    sliding direction, in mm from the apex, stresses in kPa, the contact outline in black.
+    ``window``: film thicknesses shown beyond the contact."""
+    import numpy as np
+    from matplotlib.figure import Figure
+
+    s = result.scene
+    maps = result.maps()
+    mm = 1e3
+    x, y = maps["x_m"] * mm, maps["y_m"] * mm
+    q, L = result.measures, s.length_unit * mm
+    sx = (x >= (q["x_min"] - window) * L) & (x <= (q["x_max"] + window) * L)
+    sy = (y >= (q["y_min"] - window) * L) & (y <= (q["y_max"] + window) * L)
+    panels = [("pressure_Pa", "pressure p = -sigma_zz(h)"),
+              ("base_sigma_zz_Pa", "base sigma_zz(x, y, 0)"),
+              ("base_sigma_xz_Pa", "base sigma_xz(x, y, 0)"),
+              ("base_sigma_yz_Pa", "base sigma_yz(x, y, 0)")]
+    fields = {k: maps[k] for k, _ in panels}
+    if sensor:
+        panels += [("S_zz_Pa", "MEMS S_zz [kPa] (+ compression)"), ("S_xz_Pa", "MEMS S_xz [kPa]"),
+                   ("S_yz_Pa", "MEMS S_yz [kPa]")]
+        fields.update({k: sensor[k] for k in ("S_zz_Pa", "S_xz_Pa", "S_yz_Pa")})
+    ncol = 4 if not sensor else 4
+    nrow = int(np.ceil(len(panels) / ncol))
+    fig = Figure(figsize=(3.6 * ncol, 3.3 * nrow))
+    axes = fig.subplots(nrow, ncol, squeeze=False)
+    X, Y = np.meshgrid(x[sx], y[sy], indexing="ij")
+    contact = result.pressure[np.ix_(sx, sy)] > 0
+    for ax, (key, title) in zip(axes.ravel(), panels):
+        f = fields[key][np.ix_(sx, sy)] / 1e3
+        lim = max(np.max(np.abs(f)), 1e-30)
+        signed = key != "pressure_Pa"
+        if key.startswith("S_"):  # the paper's measured field: iso-lines
+            cs = ax.contour(X, Y, f, levels=12, cmap="RdBu_r" if signed else "viridis",
+                            vmin=-lim if signed else None, vmax=lim if signed else None)
+            ax.clabel(cs, fontsize=6, fmt="%.3g")
+        else:
+            im = ax.pcolormesh(X, Y, f, shading="auto", cmap="RdBu_r" if signed else "viridis",
+                               vmin=-lim if signed else 0.0, vmax=lim)
+            fig.colorbar(im, ax=ax, label="kPa", shrink=0.85)
+        ax.contour(X, Y, contact.astype(float), levels=[0.5], colors="k", linewidths=0.8)
+        ax.set_title(title, fontsize=9)
+        ax.set_xlabel("x [mm] (sliding toward +x)")
+        ax.set_ylabel("y [mm]")
+        ax.set_aspect("equal")
+    for ax in axes.ravel()[len(panels):]:
+        ax.set_visible(False)
+    fig.suptitle(f"{result.model} model, {s.indenter}: F = {s.force:g} N, mu_d = {s.mu:g}, "
+                 f"E = {s.young / 1e6:g} MPa, R = {s.radius * 1e3:g} mm, "
+                 f"h = {s.thickness * 1e3:g} mm (black: contact outline)", fontsize=9)
+    fig.tight_layout()
+    return fig

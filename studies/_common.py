@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import json
 import statistics
 import sys
 import time
@@ -23,13 +24,32 @@ def progress(i: int, n: int, label: str, t0: float) -> None:
     print(f"  [{i}/{n}] {label}  ({time.perf_counter() - t0:.1f} s)", file=sys.stderr, flush=True)
 
 
-def table(rows: list[dict], path: Path, title: str) -> None:
-    """Print rows as an aligned table and write them as CSV."""
+def write_rows(rows: list[dict], path: Path, title: str | None = None) -> None:
+    """Rows as a plain CSV (one header row, no comments: ``pandas.read_csv(path)`` and
+    ``numpy.genfromtxt(path, delimiter=',', names=True)`` open it as it is; numpy does not read
+    quotes, so commas inside text cells are written as ';'); the title, which says the units
+    (h, E h/6R, ... unless the column name has an SI suffix), goes to ``NAME.meta.json``."""
     cols = list(rows[0])
     with path.open("w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=cols)
         w.writeheader()
-        w.writerows(rows)
+        w.writerows([{k: v.replace(",", ";") if isinstance(v, str) else v for k, v in r.items()}
+                     for r in rows])
+    if title:
+        meta = path.with_name(path.stem + ".meta.json")
+        meta.write_text(json.dumps({"title": title, "columns": cols, "units": UNITS_NOTE}, indent=2)
+                        + "\n", encoding="utf-8")
+
+
+UNITS_NOTE = ("unless a column name ends in an SI unit (_m, _mm, _Pa, _s, ...): lengths in film "
+              "thicknesses h, stresses in E h / 6R, displacements in h^2 / 2R, loads "
+              "P = 6 P_L R / (E h^2); errors relative")
+
+
+def table(rows: list[dict], path: Path, title: str) -> None:
+    """Print rows as an aligned table and write them as CSV (``write_rows``)."""
+    cols = list(rows[0])
+    write_rows(rows, path, title)
 
     def fmt(v):
         return f"{v:.4g}" if isinstance(v, float) else str(v)

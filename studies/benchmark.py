@@ -5,11 +5,16 @@
 For the paper's scene (P_L = 200 N/m, mu_d = 2): the automatic solve at tol 1e-4, then fixed
 grids N = 2^12 ... 2^20 on the automatic period.  Each time is the median of >= 5 warm runs
 (plans made beforehand, not timed); beside it, the median time of one pyfftw rfft/irfft pair of
-the same N measured in the same process, so the cost reads as FFT pairs per solve.  Writes
-benchmark.csv and benchmark.png.
+the same N measured in the same process, so the cost reads as FFT pairs per solve.  Then the
+start-up: wall time of fresh processes (median of 11) for the interpreter alone,
+``import spectral_contact``, and ``spectral-contact solve`` until its summary is printed (the
+first result a user sees; one run with --quick).  Writes benchmark.csv, benchmark_startup.csv
+and benchmark.png.
+Times are only worth quoting from a quiet machine.
 """
 from __future__ import annotations
 
+import subprocess
 import sys
 import time
 
@@ -33,6 +38,29 @@ def fft_pair_time(n: int, repeats: int = 21) -> float:
     a = np.random.default_rng(0).random(n)
     sym = np.ones(n // 2 + 1, complex)
     return _median_time(lambda: f.apply(a, sym), repeats)
+
+
+STARTUP_CASES = (
+    ("interpreter alone (python -c pass)", ["-c", "pass"]),
+    ("import spectral_contact", ["-c", "import spectral_contact"]),
+    ("spectral-contact solve (first result)", ["-m", "spectral_contact.cli.main", "solve"]),
+)
+
+
+def startup_times(repeats: int) -> list[dict]:
+    """Wall time of fresh processes (one untimed run first: disk caches), median and minimum."""
+    rows = []
+    for label, argv in STARTUP_CASES:
+        cmd = [sys.executable, *argv]
+        subprocess.run(cmd, check=True, capture_output=True)
+        ts = []
+        for _ in range(repeats):
+            t = time.perf_counter()
+            subprocess.run(cmd, check=True, capture_output=True)
+            ts.append(time.perf_counter() - t)
+        rows.append({"case": label, "median_ms": 1e3 * float(np.median(ts)),
+                     "min_ms": 1e3 * min(ts), "repeats": repeats})
+    return rows
 
 
 def main(argv=None) -> int:
@@ -69,6 +97,8 @@ def main(argv=None) -> int:
     table(rows, out / "benchmark.csv",
           f"Paper scene (P_L = {scene.load:g} N/m, mu_d = {scene.mu:g}), period {L:.2f} h; "
           f"medians of warm runs")
+    table(startup_times(1 if args.quick else 11), out / "benchmark_startup.csv",
+          "Start-up: wall time of fresh processes [ms] (quote only from a quiet machine)")
     base = rows[1]
     last = rows[-1]
     print(f"GMRES iterations at N = {last['N']}: {last['gmres_its']} vs {base['gmres_its']} at "
@@ -87,14 +117,20 @@ def main(argv=None) -> int:
         ax[0].loglog(N, [r_["fft_pair_us"] / 1e3 for r_ in fixed], "s-", label="one FFT pair")
         ref = fixed[0]["solve_ms"] * N * np.log(N) / (N[0] * np.log(N[0]))
         ax[0].loglog(N, ref, "k:", label="N log N")
-        ax[0].set_xlabel("N")
-        ax[0].set_ylabel("time [ms]")
+        ax[0].set_ylabel("wall time [ms] (median of warm runs)")
+        ax[0].set_title("time per solve and per FFT pair", fontsize=9)
         ax[0].legend(fontsize=8)
         ax[1].semilogx(N, [r_["gmres_its"] for r_ in fixed], "o-", label="GMRES iterations")
         ax[1].semilogx(N, [r_["active_set_its"] for r_ in fixed], "s-", label="active-set iterations")
-        ax[1].set_xlabel("N")
+        ax[1].set_ylabel("iterations per solve")
+        ax[1].set_title("iterations (cold start)", fontsize=9)
         ax[1].set_ylim(bottom=0)
         ax[1].legend(fontsize=8)
+        for a in ax:  # grid sizes as 2^k
+            a.set_xscale("log", base=2)
+            a.set_xticks(N, [f"$2^{{{int(round(np.log2(n)))}}}$" for n in N])
+            a.minorticks_off()
+            a.set_xlabel("grid points N")
         fig.tight_layout()
         fig.savefig(out / "benchmark.png", dpi=110)
         plt.close(fig)

@@ -46,7 +46,7 @@ from spectral_contact.physics.film import base_stresses
 from spectral_contact.reference.hertz import hertz_base_stresses, hertz_film_sinking, hertz_half_width
 from spectral_contact.solvers import auto
 
-from ._common import parse, progress, table
+from ._common import parse, progress, table, write_rows
 
 METRICS = ("a", "c", "d", "pmax", "szz", "sxz")
 LEVELS = (0.01, 0.05, 0.10)
@@ -220,30 +220,35 @@ def _plot(rows, S, MU, fits, path):
                          extend="both")
         cs = ax.contour(X, Y, Z, levels=LEVELS, colors="w", linewidths=1.4)
         ax.clabel(cs, fmt=lambda v: f"{100 * v:g} %", fontsize=8)
-        if model:
-            cb_ = ax.contour(X, Y, bound_grid(model), levels=LEVELS, colors="r",
-                             linestyles="--", linewidths=1.0)
-            ax.clabel(cb_, fmt=lambda v: f"{100 * v:g} %", fontsize=7)
+        if model:  # same levels as the white lines, unlabelled (labels would overprint)
+            ax.contour(X, Y, bound_grid(model), levels=LEVELS, colors="r", linestyles="--",
+                       linewidths=1.0)
         ax.set_xscale("log")
         ax.set_yscale("symlog", linthresh=0.1, linscale=0.5)
         ax.set_xlabel("a_Hertz / h")
         ax.set_ylabel("mu_d")
-        ax.set_title(title + ("\n(white: measured; red dashed: auto's bound)" if model else ""),
-                     fontsize=9)
-        fig.colorbar(cf, ax=ax, ticks=[1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1])
+        ax.set_title(title + ("\n(white: measured; red dashed: auto's bound, same levels)"
+                              if model else "\n(white: measured)"), fontsize=9)
+        cbar = fig.colorbar(cf, ax=ax, ticks=[1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1])
+        cbar.set_label("relative error against the exact model", fontsize=8)
     # s-cuts of the error components at mu = mid value
     ax = axes.flat[4]
     mu_cut = MU[min(len(MU) - 1, max(1, len(MU) // 3))]
     cut = sorted((r for r in rows if r["mu"] == mu_cut), key=lambda r: r["s"])
     s_ = [r["s"] for r in cut]
+    from matplotlib.lines import Line2D
+
     for m, col in zip(METRICS, ("C0", "C1", "C2", "C3", "C4", "C5")):
-        ax.loglog(s_, [max(r[f"G_{m}"], 1e-9) for r in cut], "-", color=col, label=f"goodman {m}")
-        ax.loglog(s_, [max(r[f"H_{m}"], 1e-9) for r in cut], "--", color=col, label=f"hertz {m}")
+        ax.loglog(s_, [max(r[f"G_{m}"], 1e-9) for r in cut], "-", color=col, label=m)
+        ax.loglog(s_, [max(r[f"H_{m}"], 1e-9) for r in cut], "--", color=col)
     ax.set_ylim(1e-7, 3)
     ax.set_xlabel("a_Hertz / h")
-    ax.set_title(f"error components at mu_d = {mu_cut:g} (solid goodman, dashed hertz)",
-                 fontsize=9)
-    ax.legend(fontsize=6, ncol=2, loc="lower right")
+    ax.set_ylabel("relative error against the exact model")
+    ax.set_title(f"error components at mu_d = {mu_cut:g}", fontsize=9)
+    handles, labels = ax.get_legend_handles_labels()
+    handles += [Line2D([], [], color="k", ls="-"), Line2D([], [], color="k", ls="--")]
+    labels += ["Goodman", "Hertz"]
+    ax.legend(handles, labels, fontsize=8, ncol=2, loc="lower right")
     # fit vs measured
     ax = axes.flat[5]
     for model, tag, mk in (("hertz", "H", "o"), ("goodman", "G", "s")):
@@ -262,7 +267,7 @@ def _plot(rows, S, MU, fits, path):
     ax.set_xlabel("auto's stored bound")
     ax.set_ylabel("measured max error")
     ax.set_title("fit vs measured: below the line wherever the bound < 0.1", fontsize=9)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=100)
     plt.close(fig)
@@ -302,12 +307,7 @@ def main(argv=None) -> int:
         r.update({"bound_H": d["bound_H"], "bound_G": d["bound_G"]})
         printed.append(d)
     # the CSV keeps every column; the printed table the main ones
-    import csv
-
-    with (out / "model_map.csv").open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_rows(rows, out / "model_map.csv", f"Every scene of the map, every error (reference tol {tol_ref:g})")
     table(printed, out / "model_map_printed.csv",
           f"Model errors against the exact model (reference tol {tol_ref:g}); s = a_Hertz/h; "
           f"max = largest of a, centre, indentation, p_max, base sigma_zz and sigma_xz profiles")

@@ -46,6 +46,27 @@ def _on_window(r, field):
     return np.interp(X_MM, x, field, period=L)
 
 
+def _label(kind: str, v: float) -> str:
+    """Legend label with units: mu_d is dimensionless, the load in N/m."""
+    return f"mu_d = {v:g}" if kind == "mu" else f"P_L = {v:g} N/m"
+
+
+def _colors(plt, n: int):
+    """n colours of plasma up to 0.8 (no pale yellow: every line readable on white)."""
+    cmap = plt.get_cmap("plasma")
+    return [cmap(0.8 * j / max(n - 1, 1)) for j in range(n)]
+
+
+def _style_legend(ax, kind, ncol=2):
+    """Sweep values (colours) plus what solid and dashed mean."""
+    from matplotlib.lines import Line2D
+
+    handles, labels = ax.get_legend_handles_labels()
+    handles += [Line2D([], [], color="k", ls="-", lw=1), Line2D([], [], color="k", ls="--", lw=1)]
+    labels += ["exact model", "Goodman model"]
+    ax.legend(handles, labels, fontsize=7, ncol=ncol)
+
+
 def _sensor(r):
     try:
         from spectral_contact.instruments.sensor import sensor_view
@@ -79,16 +100,16 @@ def main(argv=None) -> int:
         panels = [("base_sigma_zz_Pa", "sigma_zz(x, 0) [kPa]"), ("base_sigma_xz_Pa", "sigma_xz(x, 0) [kPa]")] \
             if base else [("pressure_Pa", "p = -sigma_zz(x, h) [kPa]")]
         fig, axes = plt.subplots(len(panels), 1, figsize=(7, 3.2 * len(panels)), squeeze=False)
-        cmap = plt.get_cmap("viridis")
+        colors = _colors(plt, len(vals))
         for j, v in enumerate(vals):
-            color = cmap(j / max(len(vals) - 1, 1))
+            color = colors[j]
             for model, style in (("exact", "-"), ("goodman", "--")):
                 r = results[name, v][model]
                 prof = r.profiles()
                 for ax, (col, _) in zip(axes[:, 0], panels):
                     y = _on_window(r, prof[col]) / 1e3
                     ax.plot(X_MM, y, style, color=color, lw=1,
-                            label=f"{kind} = {v:g}" if model == "exact" and ax is axes[0, 0] else None)
+                            label=_label(kind, v) if model == "exact" and ax is axes[0, 0] else None)
                 rec = {"model": model, kind: v}
                 for col, _ in panels:
                     rec[col] = _on_window(r, prof[col])
@@ -96,7 +117,7 @@ def main(argv=None) -> int:
         for ax, (_, label) in zip(axes[:, 0], panels):
             ax.set_ylabel(label)
             ax.axhline(0, color="0.8", lw=0.5)
-        axes[0, 0].legend(fontsize=7, ncol=2)
+        _style_legend(axes[0, 0], kind)
         other = "P_L = %g N/m" % fixed if kind == "mu" else "mu_d = %g" % fixed
         axes[0, 0].set_title(f"{name}: exact (solid) vs Goodman (dashed), {other}", fontsize=9)
         axes[-1, 0].set_xlabel("x [mm] (apex frame, sliding toward +x)")
@@ -107,18 +128,20 @@ def main(argv=None) -> int:
         if base and have_sensor:
             fig, axes = plt.subplots(2, 1, figsize=(7, 6.4))
             for j, v in enumerate(vals):
-                color = cmap(j / max(len(vals) - 1, 1))
+                color = colors[j]
                 for model, style in (("exact", "-"), ("goodman", "--")):
                     r = results[name, v][model]
                     s = _sensor(r)
                     for ax, col in zip(axes, ("S_zz_Pa", "S_xz_Pa")):
                         ax.plot(X_MM, _on_window(r, s[col]) / 1e3, style, color=color, lw=1,
-                                label=f"{kind} = {v:g}" if model == "exact" and ax is axes[0] else None)
+                                label=_label(kind, v) if model == "exact" and ax is axes[0] else None)
             axes[0].set_ylabel("S_zz [kPa] (+ compression)")
             axes[1].set_ylabel("S_xz [kPa]")
-            axes[0].legend(fontsize=7, ncol=2)
+            _style_legend(axes[0], kind)
             axes[0].set_title(f"MEMS view of {name}: G (*) sigma, exact (solid) vs Goodman (dashed)", fontsize=9)
-            axes[1].set_xlabel("x [mm]")
+            for ax in axes:
+                ax.axhline(0, color="0.8", lw=0.5)
+            axes[1].set_xlabel("x [mm] (apex frame, sliding toward +x)")
             fig.tight_layout()
             fig.savefig(out / f"mems_{name}.png", dpi=110)
             plt.close(fig)
@@ -156,7 +179,7 @@ def _write_long(path, rows, kind):
     cols = [c for c in rows[0] if c not in ("model", kind)]
     with path.open("w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["model", kind, "x_m"] + cols)
+        w.writerow(["model", "mu" if kind == "mu" else "load_N_per_m", "x_m"] + cols)
         for rec in rows:
             for k, x in enumerate(X_MM):
                 w.writerow([rec["model"], rec[kind], f"{x * 1e-3:.6g}"] + [f"{rec[c][k]:.8g}" for c in cols])

@@ -38,7 +38,7 @@ from spectral_contact.numerics.grid import Grid
 from spectral_contact.physics.film import DECAY_RATE
 from spectral_contact.physics.indenters import Cylinder
 
-from ._common import parse, progress, table
+from ._common import parse, progress, table, write_rows
 
 NAN = float("nan")
 _FAILURES = (ConvergenceError, ValueError, np.linalg.LinAlgError)
@@ -261,15 +261,6 @@ def thin_sweep(scene, a_thins, t0):
     return rows
 
 
-def _write_csv(rows, path):
-    import csv
-
-    with path.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-
-
 # --- figure --------------------------------------------------------------------------------------
 def plot(path, dom, grid, phase, mus, thin):
     import matplotlib
@@ -280,21 +271,28 @@ def plot(path, dom, grid, phase, mus, thin):
     fig, ax = plt.subplots(2, 3, figsize=(15, 8.5))
     # 1. domain
     a = ax[0, 0]
+    lowest = 1.0
+    failed = False
     for mu in sorted({r["mu"] for r in dom}):
         sel = [r for r in dom if r["mu"] == mu]
         ok = [r for r in sel if r["status"] == "ok"]
         m = np.array([r["L_minus_2a"] for r in ok])
         err = np.array([max(r["err_a"], r["err_c"], r["err_d"]) for r in ok])
-        a.semilogy(m, np.maximum(err, 1e-17), "o-", ms=3, label=f"max(a, x_c, d) error, mu={mu:g}")
+        a.semilogy(m, np.maximum(err, 1e-17), "o-", ms=3, label=f"max(a, x_c, d) error, mu_d = {mu:g}")
+        if err.size and np.any(err > 0):
+            lowest = min(lowest, float(err[err > 0].min()))
         for r in sel:
             if r["status"] != "ok":
                 a.plot(r["L_minus_2a"], 1.0, "rx", ms=9)
+                failed = True
     m = np.linspace(0, max(r["L_minus_2a"] for r in dom), 50)
     a.semilogy(m, np.exp(-DECAY_RATE * m), "k--", label="exp(-0.739 (L-2a))")
     a.axvline(math.log(100 / 1e-4) / DECAY_RATE, color="g", ls=":", label="solver margin, tol 1e-4")
+    if failed:
+        a.plot([], [], "rx", label="solve failed")
     a.set_xlabel("L - 2a [h]")
     a.set_ylabel("relative error (images)")
-    a.set_ylim(1e-16, 10)
+    a.set_ylim(max(lowest / 5, 1e-17), 10)  # down to the data, not to round-off
     a.legend(fontsize=7)
     a.set_title("1. periodic images")
     # 2. grid
@@ -308,12 +306,14 @@ def plot(path, dom, grid, phase, mus, thin):
     for r in grid:
         if r["status"] != "ok":
             a.plot(r["across"], 1.0, "rx", ms=9)
+    if any(r["status"] != "ok" for r in grid):
+        a.plot([], [], "rx", label="solve failed")
     xx = np.array([min(x), max(x)])
     a.loglog(xx, 0.02 / xx, "k:", label="0.02 dx/a")
     a.set_xlabel("points across the contact 2a/dx")
     a.set_ylabel("relative error")
     a.legend(fontsize=7)
-    a.set_title("2. grid spacing (mu = 2)")
+    a.set_title("2. grid spacing (mu_d = 2)")
     # 3. phase
     a = ax[0, 2]
     across = sorted({r["across"] for r in phase})
@@ -340,7 +340,8 @@ def plot(path, dom, grid, phase, mus, thin):
     for r in mus:
         if r["cold_status"] != "ok":
             a.plot(max(r["mu"], 0.1), 300, "C1x", ms=10)
-    a.plot([], [], "C1x", label="cold start fails")
+    if any(r["cold_status"] != "ok" for r in mus):
+        a.plot([], [], "C1x", label="cold start fails")
     a.loglog([max(r["mu"], 0.1) for r in mu_ok], [r["gmres_total"] for r in mu_ok], "^-", ms=3,
              label="GMRES its, automatic solve (all levels)")
     for r in mus:
@@ -348,8 +349,10 @@ def plot(path, dom, grid, phase, mus, thin):
             a.plot(max(r["mu"], 0.1), r["gmres_total"] or 1e3, "rx", ms=10)
         if r["tol6_status"].startswith("fail"):
             a.plot(max(r["mu"], 0.1), 3e3, "mx", ms=10)
-    a.plot([], [], "rx", label="automatic solve fails (tol 1e-4)")
-    a.plot([], [], "mx", label="automatic solve fails (tol 1e-6)")
+    if any(r["status"] != "ok" for r in mus):  # legend entries only for markers drawn
+        a.plot([], [], "rx", label="automatic solve fails (tol 1e-4)")
+    if any(r["tol6_status"].startswith("fail") for r in mus):
+        a.plot([], [], "mx", label="automatic solve fails (tol 1e-6)")
     a.set_xlabel("mu_d (0 drawn at 0.1)")
     a.set_ylabel("iterations")
     a.legend(fontsize=7)
@@ -358,31 +361,43 @@ def plot(path, dom, grid, phase, mus, thin):
     a = ax[1, 1]
     a.semilogx([max(r["mu"], 0.1) for r in mu_ok], [r["a"] for r in mu_ok], "o-", ms=3, label="a")
     a.semilogx([max(r["mu"], 0.1) for r in mu_ok], [r["c"] for r in mu_ok], "s-", ms=3, label="x_c")
-    a.semilogx([max(r["mu"], 0.1) for r in mu_ok], [r["pmax"] for r in mu_ok], "^-", ms=3,
-               label="p_max")
     two = [r for r in mu_ok if r["runs"] > 1]
     if two:
         a.semilogx([r["mu"] for r in two], [10 * r["runs_gap"] for r in two], "rd-", ms=4,
                    label="10 x gap between the two contact intervals")
-    a.set_xlabel("mu_d")
-    a.set_ylabel("[h], [E h / 6R]")
-    a.legend(fontsize=7)
+    a.set_xlabel("mu_d (0 drawn at 0.1)")
+    a.set_ylabel("lengths [h]")
+    tw = a.twinx()  # one unit per axis: stresses on the right
+    tw.semilogx([max(r["mu"], 0.1) for r in mu_ok], [r["pmax"] for r in mu_ok], "^-", ms=3,
+                color="C2", label="p_max (right axis)")
+    tw.set_ylabel("p_max [E h / 6R]", color="C2")
+    h1, l1 = a.get_legend_handles_labels()
+    h2, l2 = tw.get_legend_handles_labels()
+    a.legend(h1 + h2, l1 + l2, fontsize=7, loc="upper left")
     a.set_title("3b. friction: contact (tol 1e-4)")
     # 6. thin
     a = ax[1, 2]
     ok = [r for r in thin if r["status"] == "ok"]
     A = [r["a_thin"] for r in ok]
-    a.semilogx(A, [r["a_over_thin"] for r in ok], "o-", ms=3, label="a / a_thin")
-    a.semilogx(A, [r["pmax_over_thin"] for r in ok], "s-", ms=3, label="p_max / (a_thin^4/4)")
-    a.semilogx(A, [r["d_over_thin"] for r in ok], "^-", ms=3, label="d / (a_thin^2/3)")
+    a.loglog(A, [r["a_over_thin"] for r in ok], "o-", ms=3, label="a / a_thin")
+    a.loglog(A, [r["pmax_over_thin"] for r in ok], "s-", ms=3, label="p_max / (a_thin^4/4)")
+    a.loglog(A, [r["d_over_thin"] for r in ok], "^-", ms=3, label="d / (a_thin^2/3)")
     AA = np.array(A)
-    a.semilogx(AA, 1 - 1.46 / AA, "k:", label="1 - 1.46 h / a_thin")
+    pos = AA > 1.46 * 1.05  # the fitted offset, where it is positive
+    a.loglog(AA[pos], 1 - 1.46 / AA[pos], "k:", label="1 - 1.46 h / a_thin")
     for r in thin:
         if r["status"] != "ok":
             a.plot(r["a_thin"], 1.0, "rx", ms=10)
-    a.plot([], [], "rx", label="solver fails")
-    a.set_ylim(0, 2)
-    a.axhline(1, color="k", lw=0.5)
+    if any(r["status"] != "ok" for r in thin):
+        a.plot([], [], "rx", label="solver fails")
+    a.axhline(1, color="k", lw=0.5)  # every curve drawn whole (log scale, no clipping)
+    a.set_ylabel("ratio to the thin-film asymptote")
+    from matplotlib.ticker import FormatStrFormatter, LogLocator
+
+    a.yaxis.set_major_formatter(FormatStrFormatter("%g"))
+    a.yaxis.set_minor_locator(LogLocator(subs=(2.0, 5.0)))
+    a.yaxis.set_minor_formatter(FormatStrFormatter("%g"))
+    a.tick_params(axis="y", which="minor", labelsize=7)
     a.set_xlabel("a_thin = (15 P / 4)^(1/5)  [h]   (mu = 0)")
     a.legend(fontsize=7)
     a.set_title("4. thin-film limit")
@@ -432,7 +447,8 @@ def main(argv=None) -> int:
           f"2b. Edge phase error (edge error / dx) vs theta, {main_across} points across; "
           f"avg = mean with the grid shifted half a cell (reference: 32x finer, averaged)")
     if len(acrosses) > 1:  # every resolution, CSV only (the chart shows them all)
-        _write_csv(phase, out / "stability_phase_all.csv")
+        write_rows(phase, out / "stability_phase_all.csv",
+                   "2b. Edge phase error (edge error / dx) vs theta, every resolution")
     table(psum, out / "stability_phase_summary.csv",
           "2b. Edge phase error summary over theta (both edges): mean (bias), rms about the mean, "
           "max |error| in dx; max relative error of a")

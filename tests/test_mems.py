@@ -333,6 +333,20 @@ def test_calibrate_cli_writes_apparatus_csv_and_plot(tmp_path, capsys, rod_scan)
     G = load_apparatus_csv(out)
     assert G.radial(0.0) == pytest.approx(G_ZZ.radial(0.0), rel=0.05)
     assert png.stat().st_size > 10_000
+    # a plain CSV (metadata beside it), and solve --sensor takes it as compare does
+    from .conftest import assert_opens_plainly
+
+    assert_opens_plainly(out)
+    meta = json.loads((tmp_path / "G.meta.json").read_text())
+    assert meta["A_mV_per_bar"] == rec["A_mV_per_bar"] and meta["component"] == "zz"
+    assert main(["solve", "--tol", "1e-3", "--sensor", "--apparatus-zz", str(out), "--json"]) == 0
+    own = json.loads(capsys.readouterr().out)
+    assert main(["solve", "--tol", "1e-3", "--sensor", "--json"]) == 0
+    paper = json.loads(capsys.readouterr().out)
+    assert own["apparatus_zz"].startswith("TabulatedApparatus") and own["apparatus_xz"] == paper["apparatus_xz"]
+    # the calibrated G_zz is the paper's within the calibration's accuracy: peaks within 1 %
+    assert own["S_zz_peak_Pa"] == pytest.approx(paper["S_zz_peak_Pa"], rel=0.01)
+    assert own["S_zz_peak_Pa"] != paper["S_zz_peak_Pa"]
     # the punch computed internally gives the same A
     assert main(["calibrate", "--measured", str(meas), "--punch-load", "1.0", "--component",
                  "xz", "--method", "ratio", "--n-boot", "0", "--json"]) == 0
@@ -411,3 +425,20 @@ def test_radial_profile_reader_rejects_negative_radii(tmp_path):
     f = _csv(tmp_path / "neg.csv", {"r_m": np.arange(-2, 10) * 1e-4, "G": np.ones(12)})
     with pytest.raises(InputError, match="negative"):
         read_radial_profile(f, ("G",))
+
+
+@pytest.mark.parametrize("mu, P_bias, mu_bias", [
+    (0.3, -0.00737, -0.03153), (1.0, -0.00821, -0.03079), (2.0, -0.01149, -0.02826),
+    (3.0, -0.01867, -0.02278)])
+def test_integral_estimates_biased_low_in_a_10mm_window(mu, P_bias, mu_bias):
+    """README: the paper's integral estimates of P_L and mu_d from a +-10 mm window centred on
+    the contact, 200 N/m: P_L -0.7 to -1.9 %, mu_d -2.3 to -3.2 % (the window cuts the tails)."""
+    from spectral_contact import sensor, solve
+    from spectral_contact.instruments.compare import integral_estimates
+
+    r = solve(load=200.0, mu=mu)
+    v = sensor(r)
+    sel = np.abs(v.x_m - r.contact_center_m) <= 0.010
+    P, m = integral_estimates(v.x_m[sel], v.S_zz_Pa[sel], v.S_xz_Pa[sel])
+    assert P / 200.0 - 1 == pytest.approx(P_bias, abs=3e-4)
+    assert m / mu - 1 == pytest.approx(mu_bias, abs=3e-4)

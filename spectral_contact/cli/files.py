@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["write_csv", "to_json", "check_plot_path"]
+__all__ = ["write_csv", "to_json", "check_plot_path", "meta_path", "write_meta_json", "json_ready"]
 
 
 def check_plot_path(path) -> Path:
@@ -40,3 +40,42 @@ def write_csv(path, columns: dict, header_comment: str | None = None) -> Path:
 
 def to_json(record: dict) -> str:
     return json.dumps(record, indent=2, sort_keys=False)
+
+
+def json_ready(v):
+    """``v`` with every non-finite float replaced by None (JSON has no NaN or Infinity)."""
+    import math
+
+    if isinstance(v, float) and not math.isfinite(v):
+        return None
+    if isinstance(v, dict):
+        return {k: json_ready(w) for k, w in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [json_ready(w) for w in v]
+    return v
+
+
+def meta_path(csv_path) -> Path:
+    """Where the metadata of a CSV file goes: ``p.csv`` -> ``p.meta.json`` (beside it)."""
+    p = Path(csv_path)
+    return p.with_name((p.stem if p.suffix.lower() == ".csv" else p.name) + ".meta.json")
+
+
+def write_meta_json(csv_path, record: dict) -> Path:
+    """Write ``record`` as JSON beside ``csv_path`` (see ``meta_path``), whole or not at all
+    (temporary file in the same folder, then renamed over the target).  The CSV files
+    themselves carry no comment lines, so that ``pandas.read_csv(path)`` and
+    ``numpy.genfromtxt(path, delimiter=',', names=True)`` open them with no other argument."""
+    import os
+    import tempfile
+
+    path = meta_path(csv_path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(json.dumps(json_ready(record), indent=2) + "\n")
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path

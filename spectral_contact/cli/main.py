@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import math
 import os
 import sys
 
@@ -27,7 +28,20 @@ class _Parser(argparse.ArgumentParser):
 
 def _add_scene_options(p):
     d = PAPER_SCENE
-    p.add_argument("--load", type=float, default=d.load, help=f"P_L, lineic load [N/m] (default {d.load:g})")
+    p.add_argument("--indenter", choices=("line", "sphere", "cylinder", "paraboloid"), default="line",
+                   help="line: the plane-strain cylinder of the paper (--load, N/m); sphere, "
+                        "cylinder (finite length along y, sharp ends), paraboloid (--radius-x, "
+                        "--radius-y): 3D, pressed with --force [N] (default line)")
+    p.add_argument("--load", type=float, default=None,
+                   help=f"P_L, lineic load [N/m], line indenter only (default {d.load:g})")
+    p.add_argument("--force", type=float, default=None,
+                   help="F, total normal force [N], 3D indenters only (default 1)")
+    p.add_argument("--length", type=float, default=None,
+                   help="cylinder length along y [m] (default 0.008: the paper's cover slide)")
+    p.add_argument("--radius-x", type=float, default=None,
+                   help="paraboloid radius along x, the sliding direction [m] (default --radius)")
+    p.add_argument("--radius-y", type=float, default=None,
+                   help="paraboloid radius along y [m] (default --radius)")
     p.add_argument("--mu", type=float, default=d.mu,
                    help=f"mu_d, friction coefficient, signed: < 0 slides toward -x (default {d.mu:g})")
     p.add_argument("--young", type=float, default=d.young, help=f"E [Pa] (default {d.young:g})")
@@ -56,12 +70,19 @@ def _add_scene_options(p):
                    help="lambda of the exponential interface law [m], > 0")
 
 
-def _summary_text(r) -> str:
-    s = r.summary()
+def _plural(n: int, word: str) -> str:
+    return f"{n} {word}" + ("" if n == 1 else "s")
+
+
+def _summary_text(r, view=None) -> str:
+    """The text summary of a result (and of its sensor view, if given)."""
+    s = r.to_dict()
     for key in ("contact_center_m", "x0_m"):  # a centred contact prints 0, not -0.00000
         if abs(s[key]) < 5e-9:
             s[key] = 0.0
     mm, kPa = 1e3, 1e-3
+    loaded = s["max_pressure_Pa"] > 0
+    at = f" at x = {s['max_pressure_x_m'] * mm:.4f} mm" if loaded else ""
     lines = [
         f"{s['model']} model, {s['method']} method: P_L = {s['load_N_per_m']:g} N/m, mu_d = {s['mu']:g}, "
         f"E = {s['young_Pa'] / 1e6:g} MPa, R = {s['radius_m'] * mm:g} mm, h = {s['thickness_m'] * mm:g} mm"
@@ -69,15 +90,25 @@ def _summary_text(r) -> str:
         f"  contact half-width a     {s['half_width_m'] * mm:10.5f} mm",
         f"  contact centre (apex=0)  {s['contact_center_m'] * mm:10.5f} mm   (paper's x0 = {s['x0_m'] * mm:.5f} mm)",
         f"  indentation              {s['indentation_m'] * 1e6:10.5f} um",
-        f"  peak pressure            {s['max_pressure_Pa'] * kPa:10.4f} kPa at x = {s['max_pressure_x_m'] * mm:.4f} mm",
+        f"  peak pressure            {s['max_pressure_Pa'] * kPa:10.4f} kPa{at}",
     ]
-    if r.base_sigma_zz.size:
+    iv = s["contact_intervals_m"]
+    if len(iv) > 1:
+        spans = ", ".join(f"[{u * mm:.4f}, {v * mm:.4f}]" for u, v in iv)
+        lines.append(f"  contact in {len(iv)} intervals {spans} mm (a and centre: of their envelope)")
+    if r.base_sigma_zz.size and loaded:
         import numpy as np
 
         i = int(np.argmin(r.base_sigma_zz_Pa))
         j = int(np.argmax(np.abs(r.base_sigma_xz_Pa)))
         for name, field, m in (("zz", r.base_sigma_zz_Pa, i), ("xz", r.base_sigma_xz_Pa, j)):
             lines.append(f"  peak base sigma_{name}       {field[m] * kPa:10.4f} kPa at x = {r.x_m[m] * mm:.4f} mm")
+    if view is not None and loaded:
+        for c in ("zz", "xz"):
+            S, x, U = (getattr(view, f"S_{c}_peak_Pa"), getattr(view, f"S_{c}_peak_x_m"),
+                       getattr(view, f"U_{c}_peak_mV"))
+            lines.append(f"  sensor peak S_{c}         {S * kPa:10.4f} kPa at x = {x * mm:.4f} mm   "
+                         f"(U_{c} = {U:.4f} mV)")
     if s["friction_law"] != "amontons":
         lines.append(f"  friction law {s['friction_law']}: Q/P = {s['Q_over_P']:.5f}")
     if s["interface_compliance_m_per_Pa"]:
@@ -91,48 +122,202 @@ def _summary_text(r) -> str:
             if s["method"] == "abel" else
             f"grid {s['grid_points']} points over {s['domain_length_m'] * mm:.2f} mm")
     lines.append(
-        f"  {grid}, {s['iterations']} iterations, "
+        f"  {grid}, {_plural(s['iterations'], 'iteration')}, "
         f"residual {s['residual']:.1e}, error estimate {s['error_estimate']:.1e}, "
         f"solve {s['wall_time_s'] * 1e3:.1f} ms (+ planning {s['plan_time_s'] * 1e3:.1f} ms)")
     return "\n".join(lines)
 
 
+_PROFILE_NOTES = {
+    "x_m": "position [m] from the indenter apex, +x the sliding direction (mu_d > 0)",
+    "pressure_Pa": "contact pressure p = -sigma_zz(x, h) >= 0 [Pa]",
+    "surface_shear_Pa": "surface shear sigma_xz(x, h) = mu_d p [Pa]",
+    "base_sigma_zz_Pa": "normal stress at the rigid base sigma_zz(x, 0) [Pa], < 0 in compression",
+    "base_sigma_xz_Pa": "shear stress at the rigid base sigma_xz(x, 0) [Pa]",
+    "S_zz_Pa": "MEMS view S_zz = -G_zz (*) sigma_zz(x, 0) [Pa], > 0 in compression",
+    "S_xz_Pa": "MEMS view S_xz = G_xz (*) sigma_xz(x, 0) [Pa]",
+    "U_zz_mV": "sensor output U_zz = A_zz S_zz [mV]",
+    "U_xz_mV": "sensor output U_xz = A_xz S_xz [mV]",
+}
+
+
+def _apparatus_option(path):
+    if not path:
+        return None
+    from ..instruments.apparatus import load_apparatus_csv
+
+    return load_apparatus_csv(path)
+
+
 def _cmd_solve(args) -> int:
     from ..api import solve
     from ..physics.scene import Scene
-    from .files import check_plot_path, to_json, write_csv
+    from .files import check_plot_path, json_ready, to_json, write_csv, write_meta_json
 
-    scene = Scene(load=args.load, mu=args.mu, young=args.young, radius=args.radius,
-                  thickness=args.thickness, poisson=args.poisson, friction_law=args.friction_law,
+    if args.indenter != "line":
+        return _cmd_solve3d(args)
+    for opt in ("force", "length", "radius_x", "radius_y", "maps"):
+        if getattr(args, opt) is not None:
+            raise InputError(f"--{opt.replace('_', '-')} is for 3D indenters (--indenter sphere, "
+                             f"cylinder, paraboloid); the line indenter takes --load [N/m]")
+    scene = Scene(load=PAPER_SCENE.load if args.load is None else args.load, mu=args.mu,
+                  young=args.young, radius=args.radius, thickness=args.thickness,
+                  poisson=args.poisson, friction_law=args.friction_law,
                   friction_exponent=args.friction_exponent, friction_pref=args.friction_pref,
                   shear_strength=args.shear_strength, shear_slope=args.shear_slope,
                   interface_compliance=args.interface_compliance, interface_law=args.interface_law,
                   interface_pressure=args.interface_pressure, interface_length=args.interface_length)
     if args.plot:
         check_plot_path(args.plot)
+    apparatus = None
+    if args.apparatus_zz or args.apparatus_xz:
+        if not args.sensor:
+            raise InputError("--apparatus-zz/--apparatus-xz need --sensor")
+        apparatus = (_apparatus_option(args.apparatus_zz), _apparatus_option(args.apparatus_xz))
     r = solve(scene, model=args.model, method=args.method, tol=args.tol,
               grid_points=args.grid_points, domain_length=args.domain_length)
-    sensor = None
+    view = None
     if args.sensor:
-        from ..instruments.sensor import sensor_view
+        from ..instruments.mems_view import sensor
 
-        sensor = sensor_view(r, A_zz_mV_per_bar=args.a_zz, A_xz_mV_per_bar=args.a_xz)
+        view = sensor(r, A_zz_mV_per_bar=args.a_zz, A_xz_mV_per_bar=args.a_xz, apparatus=apparatus)
+    record = r.to_dict() | (view.to_dict() if view is not None else {})
     if args.profiles:
         cols = r.profiles()
-        if sensor:
-            cols.update({k: sensor[k] for k in ("S_zz_Pa", "S_xz_Pa", "U_zz_mV", "U_xz_mV")})
-        write_csv(args.profiles, cols,
-                  "spectral_contact profiles, apex frame, +x = sliding direction; "
-                  "sigma_zz < 0 in compression (S_zz > 0 in compression)")
+        if view is not None:
+            cols.update({k: v for k, v in view.profiles().items() if k != "x_m"})
+        write_csv(args.profiles, cols)
+        write_meta_json(args.profiles, {
+            "written_by": "spectral-contact solve",
+            "columns": {k: _PROFILE_NOTES[k] for k in cols},
+            "result": record,
+        })
     if args.plot:
         from .plots import plot_result
 
-        plot_result(r, args.plot, sensor=sensor)
+        plot_result(r, args.plot, sensor=view)
+    if args.json:
+        print(to_json(json_ready(record)))  # null, not NaN (no peak at zero load)
+    else:
+        print(_summary_text(r, view))
+    return 0
+
+
+def _summary_text3d(r) -> str:
+    s = r.summary()
+    mm, kPa = 1e3, 1e-3
+    extra = {"cylinder": f", length {s.get('length_m', 0) * mm:g} mm",
+             "paraboloid": f", R_x = {s.get('radius_x_m', 0) * mm:g} mm, "
+                           f"R_y = {s.get('radius_y_m', 0) * mm:g} mm"}.get(s["indenter"], "")
+    lines = [
+        f"{s['model']} model, {s['method']} method, {s['indenter']}{extra}: F = {s['force_N']:g} N, "
+        f"mu_d = {s['mu']:g}, E = {s['young_Pa'] / 1e6:g} MPa, R = {s['radius_m'] * mm:g} mm, "
+        f"h = {s['thickness_m'] * mm:g} mm",
+        f"  contact area             {s['contact_area_m2'] * 1e6:10.5f} mm^2 "
+        f"(radius sqrt(A/pi) {s['contact_radius_m'] * mm:.5f} mm)",
+        f"  contact x extent         {s['contact_x_min_m'] * mm:10.5f} .. "
+        f"{s['contact_x_max_m'] * mm:.5f} mm (apex = 0), y half-width "
+        f"{s['contact_y_half_width_m'] * mm:.5f} mm",
+        f"  pressure centroid x      {s['pressure_centroid_x_m'] * mm:10.5f} mm",
+        f"  indentation              {s['indentation_m'] * 1e6:10.5f} um",
+        f"  peak pressure            {s['max_pressure_Pa'] * kPa:10.4f} kPa at "
+        f"({s['max_pressure_x_m'] * mm:.4f}, {s['max_pressure_y_m'] * mm:.4f}) mm",
+        f"  line load at y = 0       {s['line_load_y0_N_per_m']:10.4f} N/m",
+        f"  grid {s['grid_points'][0]} x {s['grid_points'][1]} points over "
+        f"{s['domain_length_m'][0] * mm:.2f} x {s['domain_length_m'][1] * mm:.2f} mm, "
+        f"{s['iterations']} iterations, residual {s['residual']:.1e}, error estimate "
+        f"{s['error_estimate']:.1e}, solve {s['wall_time_s'] * 1e3:.0f} ms "
+        f"(+ planning {s['plan_time_s'] * 1e3:.0f} ms)",
+    ]
+    if r.scene.indenter == "cylinder":
+        lines.append("  (sharp ends: the peak pressure there grows with the resolution; it is "
+                     "reported, not controlled by --tol)")
+    return "\n".join(lines)
+
+
+def _cmd_solve3d(args) -> int:
+    from pathlib import Path
+
+    import numpy as np
+
+    from ..api import solve
+    from ..physics.scene import Scene3D
+    from .files import check_plot_path, to_json, write_csv
+
+    if args.load is not None:
+        raise InputError(f"--load [N/m] is for the line indenter; --indenter {args.indenter} takes "
+                         f"--force [N]")
+    if args.method != "fft":
+        raise InputError(f"--method {args.method} is for the line indenter; 3D indenters use fft")
+    # issue 14's refinements are plumbed for the line indenter only (the 3D solver has the
+    # incompressible film, Amontons friction and a rigid interface)
+    for opt, default in (("poisson", 0.5), ("friction_law", "amontons"), ("friction_exponent", None),
+                         ("friction_pref", None), ("shear_strength", None), ("shear_slope", None),
+                         ("interface_compliance", 0.0), ("interface_law", "linear"),
+                         ("interface_pressure", None), ("interface_length", None)):
+        if getattr(args, opt) != default:
+            raise InputError(f"--{opt.replace('_', '-')} applies to the line indenter only (3D "
+                             f"indenters: incompressible film, Amontons friction, rigid interface)")
+    for opt, kind in (("length", "cylinder"), ("radius_x", "paraboloid"), ("radius_y", "paraboloid")):
+        if getattr(args, opt) is not None and args.indenter != kind:
+            raise InputError(f"--{opt.replace('_', '-')} applies to --indenter {kind} only")
+    kw = {"length": args.length} if args.length is not None else {}
+    scene = Scene3D(indenter=args.indenter, force=1.0 if args.force is None else args.force,
+                    mu=args.mu, young=args.young, radius=args.radius, thickness=args.thickness,
+                    radius_x=args.radius_x, radius_y=args.radius_y, **kw)
+    for path, what in ((args.plot, "--plot"), (args.maps, "--maps"), (args.profiles, "--profiles")):
+        if path is not None and not Path(path).absolute().parent.is_dir():
+            raise InputError(f"{what} {path}: directory {Path(path).parent} does not exist")
+    if args.plot:
+        check_plot_path(args.plot)
+    r = solve(scene, model=args.model, method="fft", tol=args.tol, grid_points=args.grid_points,
+              domain_length=args.domain_length)
+    sensor = None
+    if args.sensor:
+        from ..instruments.sensor import sensor_maps
+
+        sensor = sensor_maps(r, A_zz_mV_per_bar=args.a_zz, A_xz_mV_per_bar=args.a_xz)
+    if args.maps:
+        arrays = r.maps()
+        if sensor:
+            arrays.update({k: sensor[k] for k in ("S_zz_Pa", "S_xz_Pa", "S_yz_Pa")})
+        _save_npz(args.maps, arrays)
+    if args.profiles:
+        cols = r.profiles()
+        if sensor:
+            j = int(np.argmin(np.abs(r.y)))
+            cols.update({k: sensor[k][:, j] for k in ("S_zz_Pa", "S_xz_Pa", "U_zz_mV", "U_xz_mV")})
+        write_csv(args.profiles, cols)
+    if args.plot:
+        from .plots import plot_maps
+
+        plot_maps(r, args.plot, sensor=sensor)
     if args.json:
         print(to_json(r.summary()))
     else:
-        print(_summary_text(r))
+        print(_summary_text3d(r))
     return 0
+
+
+def _save_npz(path, arrays: dict) -> None:
+    """Write an .npz whole or not at all (temporary file beside it, then rename)."""
+    import os
+    import tempfile
+    from pathlib import Path
+
+    import numpy as np
+
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", prefix=path.name,
+                               suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            np.savez(fh, **arrays)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
 
 
 def _cmd_study(args) -> int:
@@ -144,31 +329,79 @@ def _cmd_study(args) -> int:
     return int(mod.main(argv) or 0)
 
 
+def _study_lines() -> str:
+    """One line per study: its name and the first line of its docstring (read, not imported)."""
+    import ast
+    import importlib.util
+    from pathlib import Path
+
+    spec = importlib.util.find_spec("studies")
+    if spec is None or not spec.submodule_search_locations:
+        return "  (studies/ not found: run from the project's checkout)"
+    lines = []
+    for path in sorted(Path(next(iter(spec.submodule_search_locations))).glob("[a-z]*.py")):
+        try:
+            doc = ast.get_docstring(ast.parse(path.read_text(encoding="utf-8"))) or ""
+        except (OSError, SyntaxError):
+            continue
+        lines.append(f"  {path.stem:<18} {doc.strip().splitlines()[0] if doc.strip() else ''}")
+    return "\n".join(lines)
+
+
 def build_parser() -> argparse.ArgumentParser:
+    from .. import __version__
+
     parser = _Parser(prog="spectral-contact",
                      description="Sliding cylinder on a bonded incompressible film: pressure, "
                                  "base stresses, MEMS view.")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     p = sub.add_parser("solve", help="solve one scene (default: the paper's)")
     _add_scene_options(p)
-    p.add_argument("--model", choices=("exact", "goodman", "hertz", "auto"), default="exact")
-    p.add_argument("--method", choices=("fft", "abel"), default="fft")
-    p.add_argument("--tol", type=float, default=1e-4, help="relative accuracy target, in (0, 0.1) (default 1e-4)")
-    p.add_argument("--grid-points", type=int, default=None, help="fix N instead of choosing it from --tol")
-    p.add_argument("--domain-length", type=float, default=None, help="fix the FFT period L [m]")
+    p.add_argument("--model", choices=("exact", "goodman", "hertz", "auto"), default="exact",
+                   help="exact: the paper's model, friction coupled into the contact (default); "
+                        "goodman: frictionless pressure and window, friction loads the base only; "
+                        "hertz: half-space Hertz pressure put on the film (closed form; 3D: "
+                        "sphere only); auto (line only): the cheapest of the three whose error "
+                        "bound is below --tol")
+    p.add_argument("--method", choices=("fft", "abel"), default="fft",
+                   help="fft: spectral solver on a periodic grid (default); abel: the paper's "
+                        "Abel/Fredholm formulation, an independent check (line indenter only)")
+    p.add_argument("--tol", type=float, default=None,
+                   help="relative accuracy target, in (0, 0.1) (default 1e-4 for the line "
+                        "indenter; 1e-3 in 3D, 1e-2 for the finite cylinder: its sharp ends "
+                        "converge at first order)")
+    p.add_argument("--grid-points", type=int, default=None,
+                   help="fix N instead of choosing it from --tol (3D: points per axis)")
+    p.add_argument("--domain-length", type=float, default=None,
+                   help="fix the FFT period L [m] (3D: both axes)")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
     p.add_argument("--profiles", metavar="FILE.csv", help="write the profiles (SI) as CSV")
-    p.add_argument("--plot", metavar="FILE.png", help="plot pressure and base stresses")
-    p.add_argument("--sensor", action="store_true", help="add the MEMS sensor view (S, U) to profiles and plot")
+    p.add_argument("--plot", metavar="FILE.png", help="plot pressure and base stresses (3D: maps)")
+    p.add_argument("--maps", metavar="FILE.npz", default=None,
+                   help="3D indenters: write the surface and base maps (SI, arrays [x, y])")
+    p.add_argument("--sensor", action="store_true",
+                   help="add the MEMS sensor view: peak S_zz, S_xz, U in the summary and JSON, "
+                        "S and U columns in --profiles, a panel in --plot (3D: S maps in "
+                        "--maps and --plot)")
     p.add_argument("--a-zz", type=float, default=A_ZZ_MV_PER_BAR,
                    help=f"A_zz [mV/bar] (default {A_ZZ_MV_PER_BAR:.2f})")
     p.add_argument("--a-xz", type=float, default=A_XZ_MV_PER_BAR,
                    help=f"A_xz [mV/bar] (default {A_XZ_MV_PER_BAR:.2f})")
+    p.add_argument("--apparatus-zz", metavar="G.csv", default=None,
+                   help="radial G_zz (columns r_m and G or G_per_m2, as 'calibrate --out' writes) "
+                        "instead of the paper's Gaussian; needs --sensor")
+    p.add_argument("--apparatus-xz", metavar="G.csv", default=None,
+                   help="radial G_xz instead of the paper's; needs --sensor")
     p.set_defaults(func=_cmd_solve)
-    p = sub.add_parser("study", help="run a study from studies/ (python -m studies.NAME)")
-    p.add_argument("name")
-    p.add_argument("--quick", action="store_true")
-    p.add_argument("--out", default=None)
+    p = sub.add_parser("study", help="run a study from studies/ (python -m studies.NAME)",
+                       description="Run one study (python -m studies.NAME): it prints its table, "
+                                   "writes CSV + PNG into --out, progress on stderr.\n\nstudies:\n"
+                                   + _study_lines(),
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("name", metavar="NAME", help="one of the studies listed above")
+    p.add_argument("--quick", action="store_true", help="small version (under a minute; what the tests run)")
+    p.add_argument("--out", default=None, metavar="DIR", help="output folder (default out/NAME)")
     p.set_defaults(func=_cmd_study)
     for name in _PLUGINS:
         try:
@@ -181,10 +414,35 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _closed_pipe() -> int:
+    """stdout's reader has gone: silence the interpreter's final flush; status 141 (128 +
+    SIGPIPE), as a program ended by the signal."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
+    return 141
+
+
 def main(argv=None) -> int:
     try:
         args = build_parser().parse_args(argv)
-        return args.func(args)
+        from .progress import show_progress
+
+        # solver steps on stderr once a command passes 2 s (studies print their own progress)
+        with show_progress(after=math.inf if args.command == "study" else 2.0):
+            status = args.func(args)
+        sys.stdout.flush()  # a closed pipe shows here, where it is handled
+        return status
+    except SystemExit:  # --help, --version: flush now, so that a closed pipe is handled too
+        try:
+            sys.stdout.flush()
+        except BrokenPipeError:
+            _closed_pipe()
+        raise
+    except BrokenPipeError:  # the reader went away (`| head`): end quietly
+        return _closed_pipe()
     except InputError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

@@ -104,13 +104,16 @@ def register(subparsers) -> None:
                    help="rod radius [m] (250e-6)")
     p.add_argument("--thickness", type=_positive("--thickness"), default=0.002,
                    help="film thickness h [m] (0.002)")
-    p.add_argument("--component", choices=("zz", "xz"), default="zz")
+    p.add_argument("--component", choices=("zz", "xz"), default="zz",
+                   help="zz: normal channel (U_zz, S_zz); xz: shear channel (U_xz, S_xz) "
+                        "(default zz)")
     p.add_argument("--method", choices=("ratio", "wiener"), default="wiener",
                    help="ratio: the paper's Fourier ratio with noise floors; wiener: Tikhonov "
                         "with robust GCV (default)")
     p.add_argument("--noise-sd", type=float, default=None, help="noise sd of U [mV] (estimated)")
     p.add_argument("--n-boot", type=int, default=40, help="bootstrap realisations (40)")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=int, default=0,
+                   help="seed of the bootstrap's random numbers (default 0: reruns agree)")
     p.add_argument("--out", metavar="FILE.csv", help="write the radial apparatus function")
     p.add_argument("--plot", metavar="FILE.png", help="A G(r) with its band, and the U fit")
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -183,7 +186,7 @@ def _cmd_compare(args) -> int:
                     for name, f in fits.items()},
            "best_model": min(fits, key=lambda k: fits[k]["aic"]) if fits else None}
     if plot is not None:
-        _plot_compare(plot, prof, Szz, Sxz, models, fits, rec)
+        _plot_compare(plot, prof, Szz, Sxz, models, fits, rec, (args.a_zz, args.a_xz))
     if args.json:
         def clean(v):
             if isinstance(v, dict):
@@ -219,51 +222,59 @@ def _cmd_compare(args) -> int:
     return 0
 
 
-def _plot_compare(path, prof, Szz, Sxz, models, fits, rec):
+def _plot_compare(path, prof, Szz, Sxz, models, fits, rec, gains=(19.00, 7.95)):
     """Measured points with each model's direct fit (or, with --no-fit, each model at the
-    integral estimates), and a residual panel under each component."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    integral estimates), in the file's units (S in kPa, or U in mV), each component with its
+    residual panel (measured - model)."""
+    from matplotlib.figure import Figure
 
     from ..instruments.compare import _shifted
 
-    mm, kPa = 1e3, 1e-3
+    mm = 1e3
     x = prof.x_m
     step = max(1, x.size // 300)
-    shown = fits or models
-    fig, axes = plt.subplots(4, 1, figsize=(7, 9), sharex=True,
-                             gridspec_kw={"height_ratios": [3, 1.2, 3, 1.2]})
+    if prof.kind == "U":  # plot what the file holds: outputs in mV (U = A S, A in mV/bar)
+        scale = {"zz": gains[0] / 1e5, "xz": gains[1] / 1e5}
+        unit, what = "mV", "U"
+    else:
+        scale = {"zz": 1e-3, "xz": 1e-3}
+        unit, what = "kPa", "S"
+    fig = Figure(figsize=(7.5, 8.5), layout="constrained")
+    axes = fig.subplots(4, 1, sharex=True, gridspec_kw={"height_ratios": [3, 1.3, 3, 1.3]})
     styles = {"exact": ("-", "C0"), "goodman": ("--", "C3"), "exact+poisson": ("-.", "C2"),
               "exact+interface": (":", "C4")}
-    for ax, rax, E, key, label in ((axes[0], axes[1], Szz, "S_zz_Pa", "S_zz [kPa] (+ compression)"),
-                                   (axes[2], axes[3], Sxz, "S_xz_Pa", "S_xz [kPa]")):
-        ax.plot(x[::step] * mm, E[::step] * kPa, "o", ms=3, mfc="none", color="k",
-                label="measured")
-        comp = "chi_zz" if key == "S_zz_Pa" else "chi_xz"
-        for name, m in shown.items():
-            ls, c = styles.get(name, ("-", None))
-            o = m["offset_m"]
-            sel = (m["x_m"] + o >= x[0]) & (m["x_m"] + o <= x[-1])
-            tag = (f"{name} fit: P_L {m['load_N_per_m']:.4g}, mu {m['mu']:.3g}, chi {m[comp]:.3f}"
-                   if fits else f"{name} at integral estimates (chi {m[comp]:.3f})")
-            ax.plot((m["x_m"][sel] + o) * mm, m[key][sel] * kPa, ls, color=c, label=tag)
-            res = E - _shifted(m["x_m"], m[key], x, o)
-            rax.plot(x[::step] * mm, res[::step] * kPa, ls, color=c, lw=0.8)
-        ax.axhline(0.0, color="0.7", lw=0.5)
-        rax.axhline(0.0, color="0.7", lw=0.5)
-        ax.set_ylabel(label)
-        rax.set_ylabel("residual")
+    if fits:
+        curves = [(name, m, *styles.get(name, ("-", None)),
+                   f"{name} fit: P_L {m['load_N_per_m']:.4g} N/m, mu_d {m['mu']:.3g}")
+                  for name, m in fits.items()]
+    else:
+        curves = [(name, m, *styles.get(name, ("-", None)), f"{name} model at the integral estimates")
+                  for name, m in models.items()]
+    for (ax, res), E, c in (((axes[0], axes[1]), Szz, "zz"), ((axes[2], axes[3]), Sxz, "xz")):
+        key, k = f"S_{c}_Pa", scale[c]
+        ax.plot(x[::step] * mm, E[::step] * k, "o", ms=3, mfc="none", color="k", label="measured")
+        for _name, m, ls, col, label in curves:
+            sel = (m["x_m"] + m["offset_m"] >= x[0]) & (m["x_m"] + m["offset_m"] <= x[-1])
+            chi = m.get(f"chi_{c}")
+            ax.plot((m["x_m"][sel] + m["offset_m"]) * mm, m[key][sel] * k, ls, color=col,
+                    label=f"{label} (chi {chi:.3f})" if chi is not None else label)
+            r = (E - _shifted(m["x_m"], m[key], x, m["offset_m"])) * k
+            res.plot(x * mm, r, ls, color=col, lw=1)
+        ax.axhline(0.0, color="0.6", lw=0.5)
+        res.axhline(0.0, color="0.6", lw=0.5)
+        ax.set_ylabel(f"{what}_{c} [{unit}]" + (" (> 0 compression)" if c == "zz" else ""))
+        res.set_ylabel(f"measured - model\n[{unit}]", fontsize=8)
         ax.legend(fontsize=7)
-    title = (f"{Path(prof.path).name}: direct fits (best by AIC: {rec['best_model']})" if fits else
-             f"{Path(prof.path).name}: P_L = {rec['load_N_per_m']:.4g} N/m, "
-             f"mu_d = {rec['mu']:.4g} (integral estimates)")
-    axes[0].set_title(title, fontsize=9)
-    axes[3].set_xlabel("x [mm] (file frame)")
-    fig.tight_layout()
+    name = Path(prof.path).name
+    if fits:
+        title = (f"{name}: direct fits, best by AIC {rec['best_model']} (integral estimates "
+                 f"{rec['load_N_per_m']:.4g} N/m, {rec['mu']:.4g})")
+    else:
+        title = (f"{name}: P_L = {rec['load_N_per_m']:.4g} N/m, mu_d = {rec['mu']:.4g} (integral "
+                 f"estimates, biased low when the window cuts the tails; no fit)")
+    fig.suptitle(title, fontsize=9)
+    axes[-1].set_xlabel("x [mm] (file frame)")
     fig.savefig(path, dpi=120)
-    plt.close(fig)
 
 
 # --- calibrate ------------------------------------------------------------------------------
@@ -307,53 +318,70 @@ def _cmd_calibrate(args) -> int:
         raise InputError("calibrate: give --computed SIGMA.csv or --punch-load P")
     cal = calibrate(r, U, S, comp, args.method, noise_sd_mV=args.noise_sd, n_boot=args.n_boot,
                     seed=args.seed)
+    has_band = int(cal.info["n_boot"]) > 0
     if out is not None:
-        from .files import write_csv
+        from .files import write_csv, write_meta_json
 
-        write_csv(out, cal.columns(),
-                  f"spectral_contact calibrate: G_{comp} (unit integral over the plane), "
-                  f"method {args.method}\n"
-                  f"A_{comp} = {cal.A_mV_per_bar:.6g} mV/bar (band {cal.A_lo:.6g} .. "
-                  f"{cal.A_hi:.6g}, {cal.info['level']:.0%}, {cal.info['n_boot']} bootstrap "
-                  f"realisations)\nmeasured {args.measured}; computed: {source}")
+        write_csv(out, cal.columns())
+        write_meta_json(out, {
+            "written_by": "spectral-contact calibrate",
+            "columns": {"r_m": "radius [m] from the sensor centre",
+                        "G_per_m2": f"G_{comp}, unit integral over the plane [1/m^2]",
+                        "G_lo_per_m2": f"lower edge of the {cal.info['level']:.0%} bootstrap band "
+                                       f"(noise only; bias not included) [1/m^2]",
+                        "G_hi_per_m2": "upper edge of that band [1/m^2]",
+                        "AG_mV_per_bar_per_m2": f"A_{comp} G_{comp} [mV/bar/m^2]"},
+            "component": comp, "method": args.method, "A_mV_per_bar": cal.A_mV_per_bar,
+            "A_lo_mV_per_bar": cal.A_lo if has_band else None,
+            "A_hi_mV_per_bar": cal.A_hi if has_band else None,
+            "band_level": cal.info["level"], "n_boot": cal.info["n_boot"],
+            "noise_sd_mV": cal.info["noise_sd_mV"], "measured": str(args.measured),
+            "computed": source})
     if plot is not None:
         _plot_calibration(plot, cal, r, U)
     rec = {"component": comp, "method": args.method, "A_mV_per_bar": cal.A_mV_per_bar,
-           "A_lo_mV_per_bar": cal.A_lo, "A_hi_mV_per_bar": cal.A_hi,
+           "A_lo_mV_per_bar": cal.A_lo if has_band else None,  # no band without the bootstrap
+           "A_hi_mV_per_bar": cal.A_hi if has_band else None,
            "noise_sd_mV": cal.info["noise_sd_mV"], "points": int(r.size),
            "out": str(out) if out else None}
     if args.json:
         print(json.dumps(rec, indent=2))
     else:
+        band = (f"{cal.info['level']:.0%} noise band {cal.A_lo:.5g} .. {cal.A_hi:.5g}, bias not "
+                f"included" if has_band else "no band: --n-boot 0")
         print(f"G_{comp} by {args.method}: A_{comp} = {cal.A_mV_per_bar:.5g} mV/bar "
-              f"(band {cal.A_lo:.5g} .. {cal.A_hi:.5g}); G(0) = {cal.G[0]:.4g} 1/m^2; "
+              f"({band}); G(0) = {cal.G[0]:.4g} 1/m^2; "
               f"noise sd {cal.info['noise_sd_mV']:.3g} mV" + (f"; wrote {out}" if out else ""))
     return 0
 
 
 def _plot_calibration(path, cal, r, U):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     mm = 1e3
-    fig, axes = plt.subplots(2, 1, figsize=(7, 6))
+    fig = Figure(figsize=(7, 6), layout="constrained")
+    axes = fig.subplots(2, 1, sharex=True)
     A = cal.A_mV_per_bar
     ax = axes[0]
-    ax.fill_between(cal.r_m * mm, A * cal.G_lo / 1e6, A * cal.G_hi / 1e6, color="C0", alpha=0.3,
-                    label=f"{cal.info['level']:.0%} band")
+    n_boot = int(cal.info.get("n_boot", 0))
+    if n_boot > 0:
+        ax.fill_between(cal.r_m * mm, A * cal.G_lo / 1e6, A * cal.G_hi / 1e6, color="C0", alpha=0.3,
+                        label=f"{cal.info['level']:.0%} band, {n_boot} bootstrap realisations "
+                              f"(noise only; bias not included)")
+        band = f" (noise band {cal.A_lo:.4g} .. {cal.A_hi:.4g})"
+    else:
+        band = " (no bootstrap: --n-boot 0)"
     ax.plot(cal.r_m * mm, A * cal.G / 1e6, "C0-", label=f"A G_{cal.component} ({cal.method})")
+    ax.axhline(0.0, color="0.6", lw=0.5)
     ax.set_ylabel("A G [mV/bar/mm^2]")
-    ax.set_title(f"A_{cal.component} = {A:.4g} mV/bar ({cal.A_lo:.4g} .. {cal.A_hi:.4g})",
-                 fontsize=9)
+    ax.set_xlabel("r [mm] from the sensor centre")
+    ax.xaxis.set_tick_params(labelbottom=True)
+    ax.set_title(f"A_{cal.component} = {A:.4g} mV/bar{band}", fontsize=9)
     ax.legend(fontsize=8)
     ax = axes[1]
     ax.plot(r * mm, U, "ko", ms=3, mfc="none", label="measured U")
-    ax.plot(cal.r_m * mm, cal.U_fit_mV, "C1-", label="A G (*) sigma")
-    ax.set_xlabel("r [mm]")
+    ax.plot(cal.r_m * mm, cal.U_fit_mV, "C1-", label="fit: A G (*) sigma")
+    ax.set_xlabel("r [mm] from the rod axis")
     ax.set_ylabel(f"U_{cal.component} [mV]")
     ax.legend(fontsize=8)
-    fig.tight_layout()
     fig.savefig(path, dpi=120)
-    plt.close(fig)

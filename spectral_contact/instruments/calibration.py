@@ -63,6 +63,7 @@ the band by up to sqrt(2).  The band measures the noise's effect, not the regula
 """
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import dataclass, field
 
@@ -75,6 +76,8 @@ from ..numerics.grid import Grid
 from .apparatus import PA_PER_BAR, TabulatedApparatus
 
 __all__ = ["Calibration", "calibrate", "estimate_noise_sd", "axisymmetric_field"]
+
+_log = logging.getLogger(__name__)  # progress (INFO): bootstrap realisations
 
 
 @dataclass
@@ -462,7 +465,10 @@ def calibrate(r_m, U_mV, sigma_Pa, component: str = "zz", method: str = "ratio",
         raise InputError("calibrate: the deconvolved apparatus function has zero integral")
     G = AG / A
     Gs, As = [], []
-    for _ in range(int(n_boot)):
+    for b in range(int(n_boot)):
+        if b % 5 == 0:
+            _log.info("calibrate %s (%s): bootstrap realisation %d of %d", component, method,
+                      b + 1, n_boot)
         AGb, Ab = replicate(centre + sd * rng.standard_normal(r.size))
         if math.isfinite(Ab) and Ab != 0.0:
             Gs.append(AGb / Ab)

@@ -20,6 +20,7 @@ film thicknesses beyond the contact, where the base stresses have decayed below 
 """
 from __future__ import annotations
 
+import logging
 import math
 
 import numpy as np
@@ -28,6 +29,8 @@ from ..errors import InputError
 
 __all__ = ["integral_estimates", "chi", "fit_offset", "compare_models", "fit_load_mu",
            "fit_model", "FIT_KEYS", "model_view"]
+
+_log = logging.getLogger(__name__)  # progress (INFO): models solved, fit solves
 
 
 def integral_estimates(x_m, S_zz_Pa, S_xz_Pa):
@@ -95,6 +98,8 @@ def compare_models(x_m, S_zz_Pa, S_xz_Pa, scene, tol: float = 1e-4, apparatus=No
 
     out = {}
     for model in models:
+        _log.info("compare: solving the %s model (P_L = %.4g N/m, mu_d = %.4g)", model,
+                  scene.load, scene.mu)
         r = solve(scene, model=model, tol=tol)
         xm, czz, cxz = model_view(r, apparatus)
         o = fit_offset(x_m, S_zz_Pa, S_xz_Pa, xm, czz, cxz)
@@ -134,6 +139,8 @@ def fit_load_mu(x_m, S_zz_Pa, S_xz_Pa, scene, offset0: float, model: str = "exac
         if key not in cache:
             if len(cache) >= max_solves:
                 raise InputError(f"fit of P_L and mu did not settle within {max_solves} solves")
+            _log.info("fit of P_L, mu_d: solve %d (P_L = %.5g N/m, mu_d = %.5g, grid %d points)",
+                      len(cache) + 2, P, mu, N)
             changes = dict(zip(names, extra))
             if "interface_compliance" in changes:  # fitted as c, the core's units
                 changes["interface_compliance"] = max(changes["interface_compliance"], 0.0) * c_unit

@@ -57,7 +57,7 @@ def read_table(path, *, required=(), any_of=(), what: str = "columns") -> dict:
     path = Path(path)
     name = str(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")  # a BOM (spreadsheet exports) is skipped
     except UnicodeDecodeError:
         raise InputError(f"{name}: not a UTF-8 text file") from None
     except OSError as exc:

@@ -16,9 +16,11 @@ import numpy as np
 
 from ..errors import InputError
 from ..numerics.fft import get_rfft
+from ..numerics.grid import Grid
 from .apparatus import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR, PA_PER_BAR, ApparatusFunction, check_gain, default_apparatus
 
-__all__ = ["sensor_view", "sensor_profiles", "convolve_line", "SENSOR_KEYS"]
+__all__ = ["sensor_view", "sensor_profiles", "convolve_line", "sensor_maps", "SENSOR_KEYS",
+           "SENSOR_MAP_KEYS"]
 
 SENSOR_KEYS = ("S_zz_Pa", "S_xz_Pa", "U_zz_mV", "U_xz_mV")
 
@@ -146,3 +148,37 @@ def sensor_view(result, A_zz_mV_per_bar: float = A_ZZ_MV_PER_BAR,
     view = sensor_profiles(xu, np.interp(xu, x, szz), np.interp(xu, x, sxz), A_zz_mV_per_bar,
                            A_xz_mV_per_bar, apparatus, periodic=False)
     return {k: np.interp(x, xu, v) for k, v in view.items()}
+
+
+SENSOR_MAP_KEYS = ("S_zz_Pa", "S_xz_Pa", "S_yz_Pa", "U_zz_mV", "U_xz_mV", "U_yz_mV")
+
+
+def sensor_maps(result, A_zz_mV_per_bar: float = A_ZZ_MV_PER_BAR,
+                A_xz_mV_per_bar: float = A_XZ_MV_PER_BAR, apparatus=None) -> dict:
+    """MEMS view of a 3D result (``ContactResult3D``): the base tractions convolved with the 2D
+    apparatus functions on the solver's periodic grid (exact circular convolution there).
+
+    S_zz = -G_zz (*) sigma_zz(x, y, 0) (> 0 in compression), S_xz = G_xz (*) sigma_xz,
+    S_yz = G_yz (*) sigma_yz with G_yz = G_xz and A_yz = A_xz (the paper's section 2).
+    Returns (nx, ny) arrays [x, y]: S_* in Pa and U_* = A S in mV.
+    """
+    gzz, gxz = _resolve(apparatus)
+    a_zz = check_gain("A_zz", A_zz_mV_per_bar)
+    a_xz = check_gain("A_xz", A_xz_mV_per_bar)
+    maps = result.maps()
+    x, y = maps["x_m"], maps["y_m"]
+    shape = (x.size, y.size)
+    lengths = tuple(v.size * (v[1] - v[0]) for v in (x, y))
+    grid = Grid(shape, lengths)
+    fft = get_rfft(shape)
+    if max(gzz.support_radius, gxz.support_radius) > 0.5 * min(lengths):
+        raise InputError("the apparatus function is wider than half the solver's period: "
+                         "fix a larger domain_length")
+    sym_zz = np.asarray(gzz.transform(grid.kmag), dtype=float)
+    sym_xz = np.asarray(gxz.transform(grid.kmag), dtype=float)
+    S_zz = -fft.apply(maps["base_sigma_zz_Pa"], sym_zz)
+    S_xz = fft.apply(maps["base_sigma_xz_Pa"], sym_xz)
+    S_yz = fft.apply(maps["base_sigma_yz_Pa"], sym_xz)
+    return {"S_zz_Pa": S_zz, "S_xz_Pa": S_xz, "S_yz_Pa": S_yz,
+            "U_zz_mV": a_zz * S_zz / PA_PER_BAR, "U_xz_mV": a_xz * S_xz / PA_PER_BAR,
+            "U_yz_mV": a_xz * S_yz / PA_PER_BAR}

@@ -83,7 +83,7 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
     loads = np.asarray(loads, dtype=float)
     n = f.size
     loaded = loads > 0
-    can_touch = loaded[owner]
+    can_touch = loaded[owner] & np.isfinite(f)  # +inf: no body there (e.g. beyond sharp ends)
     M = loads.size
     counter = {"fft": 0}
 

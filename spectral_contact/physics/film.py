@@ -37,7 +37,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .transfer import compressible_decay_rate, compressible_transfer_functions, transfer_functions
+from .transfer import (
+    F2,
+    compressible_decay_rate,
+    compressible_tangential_function,
+    compressible_transfer_functions,
+    tanh_over,
+    transfer_functions,
+)
 
 __all__ = ["Film", "DECAY_RATE", "surface_compliance", "base_stresses"]
 
@@ -168,6 +175,49 @@ class Film:
         tau_L0 = C * tau_L + iBp * szz_hat
         T = _sech(K)
         return szz0, tuple(n * tau_L0 + T * (t - n * tau_L) for n, t in zip(direction, tau_hat))
+
+    def surface_displacement_transfer(self, direction, kmag, p_hat, tau_hat):
+        """Surface displacement spectra from surface-traction spectra (physics3d.md):
+
+            delta^ = [F0 p^ + i F1 tau_L] / (2|k|)          (sinking, = -u_z)
+            u_L^   = [F2 tau_L - i F1 p^] / (2|k|)
+            u_T^   = tanh(K) tau_T / |k|
+
+        p_hat : pressure spectrum (p = -sigma_zz(h) >= 0 in compression); tau_hat : tuple of
+        the surface shear spectra (sigma_xz, [sigma_yz]).  Returns (tuple of u_x^, [u_y^],
+        delta^).  At k = 0: delta^ = 0 (incompressible; ``uniform_compliance`` p^ for
+        nu < 1/2) and u^ = h tau^ (uniform shear of the bonded layer).  Units as
+        ``surface_compliance`` (in the core: h^2/2R per G h/2R)."""
+        kmag = np.asarray(kmag, dtype=float)
+        h = self.thickness
+        K = kmag * h
+        if self.incompressible:
+            F0, F1, *_ = transfer_functions(K)
+            F2_ = F2(K)
+        else:  # compressible (nu < 1/2): its F0, F1, F2; the anti-plane part is the same
+            F0, F1, *_ = compressible_transfer_functions(K, self.poisson)
+            F2_ = compressible_tangential_function(K, self.poisson)
+        pos = kmag > 0
+        inv2k = np.where(pos, 0.5 / np.where(pos, kmag, 1.0), 0.0)
+        tau_L = sum(n * t for n, t in zip(direction, tau_hat))
+        delta = (F0 * p_hat + 1j * F1 * tau_L) * inv2k
+        if not self.incompressible:  # a uniform pressure sinks a compressible film
+            delta = delta + np.where(pos, 0.0, self.uniform_compliance) * p_hat
+        # F2 / (2|k|) -> h and tanh(K)/|k| -> h as k -> 0
+        cL = np.where(pos, F2_ * inv2k, h)
+        u_L = cL * tau_L - 1j * F1 * inv2k * p_hat
+        cT = h * tanh_over(K)
+        u = tuple(n * u_L + cT * (t - n * tau_L) for n, t in zip(direction, tau_hat))
+        return u, delta
+
+    def surface_displacements(self, fft, grid, pressure, tau_surface):
+        """Surface displacements on ``grid`` (real fields) from the pressure p and the surface
+        shear components: returns (tuple of u_x, [u_y], delta = -u_z)."""
+        p_hat = fft.forward(pressure)
+        tau_hat = tuple(fft.forward(t) for t in tau_surface)
+        u, delta = grid.alias_average(
+            lambda n: self.surface_displacement_transfer(n, grid.kmag, p_hat, tau_hat))
+        return tuple(fft.backward(c) for c in u), fft.backward(delta)
 
     def base_stresses(self, fft, grid, szz_surface, tau_surface):
         """Base tractions on ``grid`` (real fields) from surface tractions (real fields on the

@@ -1,8 +1,10 @@
 """Rigid indenters: their height above the film on a grid, and a first guess of their pressure.
 
 Dimensionless core: lengths in h, heights (like displacements) in h^2/(2R) with R the reference
-radius of the scene, so the reference cylinder is f = x^2.  An indenter owns an apex position and
-the normal load it carries (P, dimensionless: P_L 6R/(E h^2) for a line load).  Heights are
+radius of the scene, so the reference cylinder is f = x^2 and the reference sphere
+f = x^2 + y^2.  An indenter owns an apex position and the normal load it carries (P,
+dimensionless: P_L 6R/(E h^2) for a line load on a 1D grid; F 6R/(E h^3) for a force on a 2D
+grid, where stresses integrate over an area).  Heights are
 measured from the apex (f >= 0), at the nodes' periodic offsets from it; ``grid`` is any object
 with ``periodic_offset(point)`` (numerics.grid.Grid).
 """
@@ -14,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Indenter", "Cylinder"]
+__all__ = ["Indenter", "Cylinder", "Paraboloid", "Sphere", "FiniteCylinder", "HeightFunction"]
 
 
 @dataclass(frozen=True)
@@ -23,6 +25,10 @@ class Indenter(ABC):
 
     apex: float = 0.0
     load: float = 0.0
+
+    #: True where the pressure is unbounded at an edge of the body (sharp ends): its peak
+    #: pressure then grows with the resolution and is not a converged measure
+    singular_peak = False
 
     @abstractmethod
     def offset(self, grid) -> tuple:
@@ -66,3 +72,112 @@ class Cylinder(Indenter):
         a = math.sqrt(self.load / (2 * math.pi * self.curvature)) if self.load > 0 else 0.0
         inside = np.abs(rel) < a
         return np.where(inside, 4 * self.curvature * np.sqrt(np.maximum(a * a - rel**2, 0.0)), 0.0)
+
+
+def _hertz_sphere_guess(r2, c: float, load: float):
+    """Hertz half-space pressure of a paraboloid of revolution f = c r^2 carrying ``load``
+    (dimensionless: p = (16 c a / pi) sqrt(1 - r^2/a^2), a^3 = 3 P / (32 c); E* = 4E/3)."""
+    if load <= 0:
+        return np.zeros(np.shape(r2))
+    a = (3.0 * load / (32.0 * c)) ** (1.0 / 3.0)
+    return (16.0 * c * a / math.pi) * np.sqrt(np.maximum(1.0 - r2 / (a * a), 0.0))
+
+
+@dataclass(frozen=True)
+class Paraboloid(Indenter):
+    """An elliptical paraboloid f = cx (x - x_apex)^2 + cy y^2 (2D grids): cx = R / R_x,
+    cy = R / R_y for principal radii R_x (along the sliding direction) and R_y."""
+
+    cx: float = 1.0
+    cy: float = 1.0
+
+    def offset(self, grid) -> tuple:
+        return grid.periodic_offset((self.apex, 0.0))
+
+    def height(self, grid) -> np.ndarray:
+        x, y = self.offset(grid)
+        return self.cx * x**2 + self.cy * y**2
+
+    def initial_pressure(self, grid) -> np.ndarray:
+        """Hertz pressure of the sphere of the same mean curvature c = sqrt(cx cy), on the
+        ellipses of equal height (a first guess: only its support matters)."""
+        x, y = self.offset(grid)
+        c = math.sqrt(self.cx * self.cy)
+        return _hertz_sphere_guess((self.cx * x**2 + self.cy * y**2) / c, c, self.load)
+
+    def extent_bound(self) -> tuple:
+        """Upper bounds of the contact's half-extents (x, y) in h: the half-space (Hertz)
+        contact of the flattest sphere below the paraboloid (the film is stiffer)."""
+        a = (3.0 * max(self.load, 0.0) / (32.0 * min(self.cx, self.cy))) ** (1.0 / 3.0)
+        return a, a
+
+
+class Sphere(Paraboloid):
+    """A sphere in the paraboloid approximation, f = c ((x - x_apex)^2 + y^2), c = R / R_s."""
+
+    def __init__(self, apex: float = 0.0, load: float = 0.0, curvature: float = 1.0):
+        super().__init__(apex, load, curvature, curvature)
+
+
+@dataclass(frozen=True)
+class FiniteCylinder(Indenter):
+    """A cylinder of curvature c (f = c (x - x_apex)^2) and half-length ``half_length`` along
+    y, centred on y = 0, with sharp ends: no contact beyond |y| > half_length (its height is
+    +inf there).  On a 1D grid it is meaningless: use ``Cylinder``."""
+
+    curvature: float = 1.0
+    half_length: float = 1.0
+    singular_peak = True
+
+    def offset(self, grid) -> tuple:
+        return grid.periodic_offset((self.apex, 0.0))
+
+    def height(self, grid) -> np.ndarray:
+        x, y = self.offset(grid)
+        return np.where(np.abs(y) <= self.half_length, self.curvature * x**2, np.inf)
+
+    def initial_pressure(self, grid) -> np.ndarray:
+        """The line-load Hertz pressure of P / (2 half_length) on every row within the ends."""
+        x, y = self.offset(grid)
+        line = self.load / (2.0 * self.half_length)
+        a = math.sqrt(line / (2 * math.pi * self.curvature)) if line > 0 else 0.0
+        p = 4 * self.curvature * np.sqrt(np.maximum(a * a - x**2, 0.0))
+        return np.where(np.abs(y) <= self.half_length, p, 0.0)
+
+    def extent_bound(self) -> tuple:
+        line = max(self.load, 0.0) / (2.0 * self.half_length)
+        # the ends carry more than the mean line load: twice the Hertz width as a bound
+        return 2.0 * math.sqrt(line / (2 * math.pi * self.curvature)), self.half_length
+
+
+@dataclass(frozen=True)
+class HeightFunction(Indenter):
+    """Any rigid shape: ``function(x, y)`` gives the height f >= 0 above the apex (in the
+    core's units: x, y in h, f in h^2/(2R)) at offsets (x, y) from (apex, 0); +inf where the
+    indenter does not exist.  ``half_extent`` bounds the contact's half-extents (x, y) [h]."""
+
+    function: object = None
+    half_extent: tuple = (1.0, 1.0)
+
+    def offset(self, grid) -> tuple:
+        return grid.periodic_offset((self.apex, 0.0))
+
+    def height(self, grid) -> np.ndarray:
+        x, y = self.offset(grid)
+        f = np.asarray(self.function(x + 0 * y, y + 0 * x), dtype=float)
+        return f - np.min(f)
+
+    def initial_pressure(self, grid) -> np.ndarray:
+        """A pressure on the nodes whose height is below the median of the window's, scaled
+        to the load (only its support matters: it is the first active set)."""
+        f = self.height(grid)
+        x, y = self.offset(grid)
+        inside = (np.abs(x) <= self.half_extent[0]) & (np.abs(y) <= self.half_extent[1])
+        sel = inside & np.isfinite(f)
+        if not sel.any():
+            return np.zeros(f.shape)
+        cut = np.median(f[sel])
+        return np.where(sel & (f <= cut), 1.0, 0.0)
+
+    def extent_bound(self) -> tuple:
+        return tuple(self.half_extent)

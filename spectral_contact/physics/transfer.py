@@ -19,8 +19,9 @@ from functools import lru_cache
 
 import numpy as np
 
-__all__ = ["transfer_functions", "F0", "F0_minus_1", "compressible_transfer_functions",
-           "compressible_decay_rate", "compressible_tangential_function"]
+__all__ = ["transfer_functions", "F0", "F0_minus_1", "F2", "tanh_over",
+           "compressible_transfer_functions", "compressible_decay_rate",
+           "compressible_tangential_function"]
 
 _SERIES_MAX = 1.0  # |2k| below which sinh(2k) - 2k is summed as a series
 
@@ -154,3 +155,18 @@ def compressible_tangential_function(k, nu: float):
     Dp = kap * (1.0 + e2 * e2) + (4.0 * k * k + 1.0 + kap * kap) * e2   # 2 exp(-2k) D
     # 2 exp(-2k)(kappa sinh 2k + 2k) = kappa (1 - exp(-4k)) + 4k exp(-2k): no cancellation
     return 2.0 * (1.0 - nu) * (kap * -np.expm1(-4.0 * k) + 4.0 * k * e2) / Dp
+
+
+def F2(k):
+    """F2 = (sinh 2k + 2k) / D: the tangential-tangential surface compliance of the sagittal
+    problem (physics3d.md): -> 1 as k -> inf, ~ 2k as k -> 0."""
+    k, e2, Dp = _scaled(k)
+    return (1.0 - e2 * e2 + 4.0 * k * e2) / Dp
+
+
+def tanh_over(k):
+    """tanh(k) / k, with its limit 1 at k = 0 (the anti-plane compliance times 1/h)."""
+    k = np.abs(np.asarray(k, dtype=float))
+    e2 = np.exp(-2.0 * k)
+    safe = np.where(k > 0, k, 1.0)
+    return np.where(k > 1e-8, (1.0 - e2) / ((1.0 + e2) * safe), 1.0 - k * k / 3.0)

@@ -18,6 +18,7 @@ and adds the shifted-grid term.
 """
 from __future__ import annotations
 
+import logging
 import math
 import time
 
@@ -33,11 +34,14 @@ from ..numerics.interface import solve_exponential_contact
 from ..physics.film import Film
 from ..physics.friction import ShearLaw
 from ..physics.indenters import Cylinder
-from ..physics.scene import Scene, check_positive
+from ..physics.scene import Scene, Scene3D, check_positive
 from ..result import ContactResult
 from .base import Method, check_grid_points, register
+from .fft3d import solve_fft3d
 
 __all__ = ["solve_fft", "FFTMethod", "MIN_POINTS", "MAX_POINTS"]
+
+_log = logging.getLogger(__name__)  # progress (INFO): one line per refinement level
 
 MIN_POINTS = 64
 MAX_POINTS = 2**22
@@ -220,6 +224,8 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     est = float("inf")
     last_diff = None
     for i, n in enumerate(sizes):
+        _log.info("%s model, fft: level %d, grid %d points over %.4g h%s", model, i + 1, n, L,
+                  f" (estimate so far {est:.1e}, tol {tol:.0e})" if est < math.inf else "")
         g = Grid.centered(n, L, center)
         # start from the locator's pressure (first level) or the previous level's
         if prev is None:
@@ -309,10 +315,21 @@ class FFTMethod(Method):
 
     def __init__(self, tol: float = 1e-4, grid_points=None, domain_length=None):
         super().__init__(tol)
-        self.grid_points = check_grid_points(grid_points, MIN_POINTS, 2**24, "fft grid points", even=True)
-        if domain_length is not None:
+        self.surface_options = (grid_points, domain_length)  # 3D: checked by solve_fft3d
+        if np.ndim(grid_points) == 0:
+            grid_points = check_grid_points(grid_points, MIN_POINTS, 2**24, "fft grid points",
+                                            even=True)
+        if domain_length is not None and np.ndim(domain_length) == 0:
             domain_length = check_positive("domain_length", domain_length, "h")
+        self.grid_points = grid_points
         self.domain_length = domain_length
 
-    def solve(self, scene: Scene, model: str) -> ContactResult:
-        return solve_fft(scene, self.check_model(model), self.tol, self.grid_points, self.domain_length)
+    def solve(self, scene, model: str, progress=None):
+        """A ContactResult for a plane-strain ``Scene``; a ContactResult3D for a ``Scene3D``."""
+        model = self.check_model(model)
+        if isinstance(scene, Scene3D):
+            return solve_fft3d(scene, model, self.tol, *self.surface_options, progress=progress)
+        if np.ndim(self.grid_points) or np.ndim(self.domain_length):
+            raise InputError("grid_points and domain_length are single numbers for a line "
+                             "indenter (pairs [nx, ny], [Lx, Ly] are for 3D indenters)")
+        return solve_fft(scene, model, self.tol, self.grid_points, self.domain_length)

@@ -7,14 +7,14 @@ fitted error bound is below tol (``auto.choose_model``) and reports why in ``inf
 from __future__ import annotations
 
 from ..errors import InputError
-from ..physics.scene import Scene
+from ..physics.scene import Scene, Scene3D
 from ..reference.hertz import hertz_half_width
 from ..result import ContactResult
 from . import abel as _abel  # noqa: F401  (registers "abel")
 from . import fft as _fft  # noqa: F401  (registers "fft")
 from .auto import PROVENANCE, choose_model
 from .base import METHODS
-from .hertz import solve_hertz
+from .hertz import solve_hertz, solve_hertz3d
 
 __all__ = ["MODELS", "METHODS", "solve_scene", "make_method"]
 
@@ -33,6 +33,16 @@ def solve_scene(scene: Scene, model: str, method: str, tol: float, grid_points=N
     """Solve ``scene`` (SI) with ``model`` by ``method``; ``domain_length`` in h."""
     if not isinstance(model, str) or model not in MODELS:
         raise InputError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
+    if isinstance(scene, Scene3D):
+        if method != "fft":
+            raise InputError(f"method {method!r} is for a line indenter (plane strain); 3D "
+                             f"indenters use method fft")
+        if model == "auto":
+            raise InputError("model auto is for a line indenter; use exact, goodman or hertz in 3D")
+        solver = make_method(method, tol, grid_points, domain_length)
+        if model == "hertz":
+            return solve_hertz3d(scene, solver.tol, grid_points, domain_length)
+        return solver.solve(scene, model)
     solver = make_method(method, tol, grid_points, domain_length)
     if scene.poisson != 0.5 and model == "hertz":
         raise InputError(f"model hertz is the incompressible half-space (poisson 0.5) only; got "
