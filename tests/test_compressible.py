@@ -35,7 +35,7 @@ def layer_mode(k: float, nu: float, h: float, G: float = 1.0):
     for name, top in (("p", (0.0, -1.0)), ("q", (1.0, 0.0))):
         s0 = np.linalg.solve(T[2:, 2:], np.array(top, complex))  # base tractions
         sh = T[:, 2:] @ s0
-        out[name] = {"sink": -sh[1], "sxz0": s0[0], "szz0": s0[1]}
+        out[name] = {"sink": -sh[1], "ux": sh[0], "sxz0": s0[0], "szz0": s0[1]}
     return out
 
 
@@ -300,3 +300,27 @@ def test_compressible_film_on_a_two_dimensional_grid_is_plane_strain():
     np.testing.assert_allclose(l2.pressure, l1.pressure[:, None] + 0 * l2.pressure,
                                atol=1e-7 * l1.pressure.max())
     np.testing.assert_allclose(q2, q1[:, None] + 0 * q2, atol=1e-7 * np.abs(q1).max())
+
+
+def test_compressible_surface_displacements_match_the_transfer_matrix():
+    """Film.surface_displacement_transfer (the 3D solver's surface displacements) for nu < 1/2:
+    the sagittal part against the 4x4 transfer matrix, the uniform sinking at k = 0."""
+    nu, h = 0.3, 1.5
+    film = Film(thickness=h, poisson=nu)
+    for k in (0.2, -1.1, 3.0):
+        ref = layer_mode(k, nu, h)
+        (ux,), delta = film.surface_displacement_transfer((np.sign(k),), np.array(abs(k)),
+                                                          1.0, (0.6,))
+        np.testing.assert_allclose(delta, ref["p"]["sink"] + 0.6 * ref["q"]["sink"], rtol=1e-9)
+        np.testing.assert_allclose(ux, ref["p"]["ux"] + 0.6 * ref["q"]["ux"], rtol=1e-9)
+    (ux0,), delta0 = film.surface_displacement_transfer((1.0,), np.array(0.0), 2.0, (0.5,))
+    assert delta0 == pytest.approx(2.0 * film.uniform_compliance, rel=1e-15)
+    assert ux0 == pytest.approx(0.5 * h, rel=1e-15)
+
+
+def test_three_d_indenters_refuse_the_line_only_options(capsys):
+    for argv in (["--poisson", "0.3"], ["--friction-law", "power", "--friction-pref", "1e4"],
+                 ["--interface-compliance", "1e-10"]):
+        assert main(["solve", "--indenter", "sphere", "--force", "0.5", *argv]) == 2
+        err = capsys.readouterr().err.strip()
+        assert "\n" not in err and "line indenter only" in err
