@@ -407,8 +407,8 @@ def _plot(result, ax=None, sensor=None):
     return fig
 
 JSON_KEYS_3D = (
-    "model", "method", "indenter", "force_N", "mu", "young_Pa", "radius_m", "thickness_m",
-    "contact_area_m2", "contact_radius_m", "contact_x_min_m", "contact_x_max_m",
+    "model", "method", "indenter", "force_N", "mu", "young_Pa", "poisson", "radius_m",
+    "thickness_m", "contact_area_m2", "contact_radius_m", "contact_x_min_m", "contact_x_max_m",
     "contact_y_half_width_m", "pressure_centroid_x_m", "indentation_m", "max_pressure_Pa",
     "max_pressure_x_m", "max_pressure_y_m", "line_load_y0_N_per_m", "grid_points",
     "domain_length_m", "iterations", "residual", "error_estimate", "wall_time_s", "plan_time_s",
@@ -523,8 +523,8 @@ class ContactResult3D:
         m, S = self.measures, self.scene.stress_unit
         out = {
             "model": self.model, "method": self.method, "indenter": s.indenter,
-            "force_N": s.force, "mu": s.mu, "young_Pa": s.young, "radius_m": s.radius,
-            "thickness_m": s.thickness,
+            "force_N": s.force, "mu": s.mu, "young_Pa": s.young, "poisson": s.poisson,
+            "radius_m": s.radius, "thickness_m": s.thickness,
         }
         if s.indenter == "cylinder":
             out["length_m"] = s.length

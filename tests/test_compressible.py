@@ -319,8 +319,25 @@ def test_compressible_surface_displacements_match_the_transfer_matrix():
 
 
 def test_three_d_indenters_refuse_the_line_only_options(capsys):
-    for argv in (["--poisson", "0.3"], ["--friction-law", "power", "--friction-pref", "1e4"],
+    for argv in (["--friction-law", "power", "--friction-pref", "1e4"],
                  ["--interface-compliance", "1e-10"]):
         assert main(["solve", "--indenter", "sphere", "--force", "0.5", *argv]) == 2
         err = capsys.readouterr().err.strip()
         assert "\n" not in err and "line indenter only" in err
+
+
+def test_compressible_sphere_in_three_d_tends_to_hertz():
+    """3D: a small sphere on a compressible film tends to Hertz with E* = E/(1 - nu^2)
+    (a^3 = 3FR/(4E*)); measured at a/h ~ 0.45: -1.7 % (nu = 0.5), -1.3 % (nu = 0.3), the
+    film's stiffening."""
+    radii = {}
+    for nu in (0.5, 0.3):
+        r = solve(indenter="sphere", force=0.02, mu=0.0, tol=1e-2, poisson=nu)
+        s = r.scene
+        a = (3 * 0.02 * s.radius * (1 - nu**2) / (4 * s.young)) ** (1 / 3)
+        radii[nu] = r.summary()["contact_radius_m"]
+        assert r.summary()["poisson"] == nu
+        assert -0.03 < radii[nu] / a - 1 < 0.0
+    assert radii[0.3] / radii[0.5] == pytest.approx((0.91 / 0.75) ** (1 / 3), rel=0.01)
+    assert main(["solve", "--indenter", "sphere", "--force", "0.02", "--poisson", "0.3",
+                 "--model", "hertz"]) == 2

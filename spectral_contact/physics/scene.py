@@ -262,6 +262,9 @@ class Scene3D:
         For "function": height(x_m, y_m) -> f [m] above the lowest point.
     extent : float, optional
         For "function": a bound of the contact's half-extent [m] (default 2 h).
+    poisson : float
+        nu, the film's Poisson ratio in [0, 0.5] (default 0.5), as ``Scene.poisson``: the
+        stress unit is G h/(2R), G = E/(2(1 + nu)).
 
     Dimensionless core: as ``Scene``, and the force P = F 6R / (E h^3) (stresses integrate
     over an area in h^2).
@@ -278,8 +281,10 @@ class Scene3D:
     radius_y: float | None = None
     height: object = None
     extent: float | None = None
+    poisson: float = 0.5
 
     def __post_init__(self):
+        object.__setattr__(self, "poisson", check_poisson(self.poisson))
         if self.indenter not in INDENTERS_3D:
             raise InputError(f"indenter must be one of {', '.join(INDENTERS_3D)} (or line in 2D); "
                              f"got {self.indenter!r}")
@@ -307,7 +312,7 @@ class Scene3D:
     length_unit = Scene.length_unit
     displacement_unit = Scene.displacement_unit
     stress_unit = Scene.stress_unit
-    poisson = 0.5  # not a field: the 3D film is incompressible (issue 14's options: line only)
+    shear_modulus = Scene.shear_modulus
 
     @property
     def P(self) -> float:

@@ -162,7 +162,7 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     t0 = time.perf_counter()
     plans0 = _plans_time()
     grid_points, domain_length = _check_fixed(grid_points, domain_length)
-    film = Film()
+    film = Film(poisson=scene.poisson)  # issue 14: any nu (nu = 1/2: the incompressible path)
     P = scene.P
     mu_contact = scene.mu if model == "exact" else 0.0
     ind = scene.indenter_object()

@@ -41,6 +41,9 @@ def solve_scene(scene: Scene, model: str, method: str, tol: float, grid_points=N
             raise InputError("model auto is for a line indenter; use exact, goodman or hertz in 3D")
         solver = make_method(method, tol, grid_points, domain_length)
         if model == "hertz":
+            if scene.poisson != 0.5:
+                raise InputError(f"model hertz is the incompressible half-space (poisson 0.5) only; "
+                                 f"got poisson {scene.poisson:g}: use model exact or goodman")
             return solve_hertz3d(scene, solver.tol, grid_points, domain_length)
         return solver.solve(scene, model)
     solver = make_method(method, tol, grid_points, domain_length)
