@@ -408,7 +408,8 @@ def _plot(result, ax=None, sensor=None):
 
 JSON_KEYS_3D = (
     "model", "method", "indenter", "force_N", "mu", "young_Pa", "poisson", "radius_m",
-    "thickness_m", "contact_area_m2", "contact_radius_m", "contact_x_min_m", "contact_x_max_m",
+    "thickness_m", "friction_law", "Q_over_P", "interface_compliance_m_per_Pa", "contact_area_m2",
+    "contact_radius_m", "contact_x_min_m", "contact_x_max_m",
     "contact_y_half_width_m", "pressure_centroid_x_m", "indentation_m", "max_pressure_Pa",
     "max_pressure_x_m", "max_pressure_y_m", "line_load_y0_N_per_m", "grid_points",
     "domain_length_m", "iterations", "residual", "error_estimate", "wall_time_s", "plan_time_s",
@@ -465,6 +466,7 @@ class ContactResult3D:
     plan_time_s: float = 0.0
     info: dict = field(default_factory=dict)
     counters: dict = field(default_factory=lambda: dict.fromkeys(COUNTER_KEYS, 0))
+    shear: np.ndarray | None = None  # surface shear q(x, y) along x when not mu_d p (issue 14)
 
     @property
     def indentation(self) -> float:
@@ -525,6 +527,10 @@ class ContactResult3D:
             "model": self.model, "method": self.method, "indenter": s.indenter,
             "force_N": s.force, "mu": s.mu, "young_Pa": s.young, "poisson": s.poisson,
             "radius_m": s.radius, "thickness_m": s.thickness,
+        } | s.friction.describe() | {
+            "Q_over_P": (float(s.mu) if self.shear is None else
+                         float(np.sum(self.shear)) / max(float(np.sum(self.pressure)), 1e-300)),
+            "interface_compliance_m_per_Pa": s.interface_compliance,
         }
         if s.indenter == "cylinder":
             out["length_m"] = s.length
@@ -575,7 +581,8 @@ class ContactResult3D:
         return {
             "x_m": self.x * L,
             "pressure_Pa": self.pressure[:, j] * S,
-            "surface_shear_Pa": s.mu * self.pressure[:, j] * S,
+            "surface_shear_Pa": (s.mu * self.pressure[:, j] if self.shear is None
+                                 else self.shear[:, j]) * S,
             "base_sigma_zz_Pa": self.base_sigma_zz[:, j] * S,
             "base_sigma_xz_Pa": self.base_sigma_xz[:, j] * S,
         }

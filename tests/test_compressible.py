@@ -319,8 +319,8 @@ def test_compressible_surface_displacements_match_the_transfer_matrix():
 
 
 def test_three_d_indenters_refuse_the_line_only_options(capsys):
-    for argv in (["--friction-law", "power", "--friction-pref", "1e4"],
-                 ["--interface-compliance", "1e-10"]):
+    for argv in (["--interface-law", "exponential", "--interface-pressure", "1e5",
+                  "--interface-length", "1e-6"],):
         assert main(["solve", "--indenter", "sphere", "--force", "0.5", *argv]) == 2
         err = capsys.readouterr().err.strip()
         assert "\n" not in err and "line indenter only" in err

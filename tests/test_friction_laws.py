@@ -146,3 +146,34 @@ def test_friction_law_object_validation():
     with pytest.raises(Exception, match="exponent"):
         FrictionLaw("power", exponent=1.5, pref=1.0)
     assert Scene(friction_law="power", friction_pref=2e4).friction.exponent == 0.0
+
+
+def test_friction_laws_and_interface_in_three_d():
+    """3D (a sphere): power with n = 0 is Amontons bit for bit; equilibrium of the base shear
+    with Int q for the laws; a compliant interface widens the contact."""
+    base = solve(indenter="sphere", force=0.5, mu=1.0, tol=1e-2)
+    r0 = solve(indenter="sphere", force=0.5, mu=1.0, tol=1e-2, friction_law="power",
+               friction_exponent=0.0, friction_pref=1e4)
+    np.testing.assert_array_equal(r0.pressure, base.pressure)
+    np.testing.assert_array_equal(r0.base_sigma_xz, base.base_sigma_xz)
+    for kw in (dict(friction_law="power", friction_exponent=0.2, friction_pref=2e4),
+               dict(friction_law="linear", shear_strength=5e3, shear_slope=0.8)):
+        r = solve(indenter="sphere", force=0.5, mu=1.0, tol=1e-2, **kw)
+        assert np.sum(r.base_sigma_xz) == pytest.approx(np.sum(r.shear), rel=1e-10)
+        assert np.sum(r.base_sigma_yz) == pytest.approx(0.0, abs=1e-10 * np.sum(r.shear))
+        assert r.summary()["Q_over_P"] == pytest.approx(np.sum(r.shear) / np.sum(r.pressure))
+        assert r.summary()["friction_law"] == kw["friction_law"]
+    soft = solve(indenter="sphere", force=0.5, mu=1.0, tol=1e-2, interface_compliance=1e-10)
+    assert soft.summary()["contact_radius_m"] > base.summary()["contact_radius_m"]
+
+
+def test_three_d_cli_takes_the_laws_and_refuses_the_exponential_interface(capsys):
+    assert main(["solve", "--indenter", "sphere", "--force", "0.5", "--tol", "1e-2", "--json",
+                 "--friction-law", "power", "--friction-pref", "2e4",
+                 "--friction-exponent", "0.1"]) == 0
+    rec = json.loads(capsys.readouterr().out)
+    assert rec["friction_law"] == "power" and rec["Q_over_P"] < rec["mu"]
+    assert main(["solve", "--indenter", "sphere", "--interface-law", "exponential",
+                 "--interface-pressure", "1e5", "--interface-length", "1e-6"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "line indenter only" in err

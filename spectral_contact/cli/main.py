@@ -249,21 +249,24 @@ def _cmd_solve3d(args) -> int:
                          f"--force [N]")
     if args.method != "fft":
         raise InputError(f"--method {args.method} is for the line indenter; 3D indenters use fft")
-    # issue 14: --poisson works in 3D; the friction laws and the interface are line-only
-    for opt, default in (("friction_law", "amontons"), ("friction_exponent", None),
-                         ("friction_pref", None), ("shear_strength", None), ("shear_slope", None),
-                         ("interface_compliance", 0.0), ("interface_law", "linear"),
-                         ("interface_pressure", None), ("interface_length", None)):
+    # issue 14: --poisson, the friction laws and the linear interface work in 3D; the
+    # exponential interface law is line-only
+    for opt, default in (("interface_law", "linear"), ("interface_pressure", None),
+                         ("interface_length", None)):
         if getattr(args, opt) != default:
             raise InputError(f"--{opt.replace('_', '-')} applies to the line indenter only (3D "
-                             f"indenters: Amontons friction, rigid interface; --poisson works)")
+                             f"indenters: the linear --interface-compliance)")
     for opt, kind in (("length", "cylinder"), ("radius_x", "paraboloid"), ("radius_y", "paraboloid")):
         if getattr(args, opt) is not None and args.indenter != kind:
             raise InputError(f"--{opt.replace('_', '-')} applies to --indenter {kind} only")
     kw = {"length": args.length} if args.length is not None else {}
     scene = Scene3D(indenter=args.indenter, force=1.0 if args.force is None else args.force,
                     mu=args.mu, young=args.young, radius=args.radius, thickness=args.thickness,
-                    radius_x=args.radius_x, radius_y=args.radius_y, poisson=args.poisson, **kw)
+                    radius_x=args.radius_x, radius_y=args.radius_y, poisson=args.poisson,
+                    friction_law=args.friction_law, friction_exponent=args.friction_exponent,
+                    friction_pref=args.friction_pref, shear_strength=args.shear_strength,
+                    shear_slope=args.shear_slope, interface_compliance=args.interface_compliance,
+                    **kw)
     for path, what in ((args.plot, "--plot"), (args.maps, "--maps"), (args.profiles, "--profiles")):
         if path is not None and not Path(path).absolute().parent.is_dir():
             raise InputError(f"{what} {path}: directory {Path(path).parent} does not exist")

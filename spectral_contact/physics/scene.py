@@ -265,6 +265,9 @@ class Scene3D:
     poisson : float
         nu, the film's Poisson ratio in [0, 0.5] (default 0.5), as ``Scene.poisson``: the
         stress unit is G h/(2R), G = E/(2(1 + nu)).
+    friction_law, friction_exponent, friction_pref, shear_strength, shear_slope,
+    interface_compliance :
+        As ``Scene`` (issue 14): the friction law q(p) along x, a linear interface compliance.
 
     Dimensionless core: as ``Scene``, and the force P = F 6R / (E h^3) (stresses integrate
     over an area in h^2).
@@ -282,9 +285,24 @@ class Scene3D:
     height: object = None
     extent: float | None = None
     poisson: float = 0.5
+    friction_law: str = "amontons"
+    friction_exponent: float | None = None
+    friction_pref: float | None = None
+    shear_strength: float | None = None
+    shear_slope: float | None = None
+    interface_compliance: float = 0.0
 
     def __post_init__(self):
         object.__setattr__(self, "poisson", check_poisson(self.poisson))
+        c = check_finite("interface compliance (C)", self.interface_compliance, ">= 0 m/Pa")
+        if c < 0.0:
+            raise InputError(f"interface compliance (C) must be >= 0 m/Pa; got {c}")
+        object.__setattr__(self, "interface_compliance", c)
+        law = self.friction  # validates the law's parameters: one-line InputError
+        if law.law == "linear" and law.shear_strength != 0.0 and self.poisson != 0.5:
+            raise InputError("shear strength (tau_0) != 0 needs poisson 0.5: with the shear step at "
+                             "the contact edge the friction-law iteration does not settle on a "
+                             f"compressible film; got poisson {self.poisson:g}")
         if self.indenter not in INDENTERS_3D:
             raise InputError(f"indenter must be one of {', '.join(INDENTERS_3D)} (or line in 2D); "
                              f"got {self.indenter!r}")
@@ -313,6 +331,9 @@ class Scene3D:
     displacement_unit = Scene.displacement_unit
     stress_unit = Scene.stress_unit
     shear_modulus = Scene.shear_modulus
+    friction = Scene.friction
+    interface = Scene.interface
+    interface_law = "linear"  # not a field: the exponential law is for the line indenter only
 
     @property
     def P(self) -> float:
