@@ -10,10 +10,18 @@ import time
 from pathlib import Path
 
 
-def parse(argv, description: str, default_out: str):
+def parse(argv, description: str, default_out: str, engine: bool = False):
+    """Arguments --quick, --out; with ``engine`` also --workers N / --serial (studies whose
+    points run through ``spectral_contact.sweep.map_tasks``)."""
     p = argparse.ArgumentParser(description=description)
     p.add_argument("--quick", action="store_true", help="small version (under a minute), for CI")
     p.add_argument("--out", default=default_out, help=f"output folder (default {default_out})")
+    if engine:
+        g = p.add_mutually_exclusive_group()
+        g.add_argument("--workers", type=int, default=None,
+                       help="dask LocalCluster worker processes (default: the cores; serial "
+                            "without dask.distributed)")
+        g.add_argument("--serial", action="store_true", help="run every point in this process")
     args = p.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

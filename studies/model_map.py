@@ -1,6 +1,6 @@
 """Model map: where are the Hertz and Goodman models good enough, and the bound ``--model auto`` uses.
 
-    python -m studies.model_map [--quick] [--out DIR]
+    python -m studies.model_map [--quick] [--out DIR] [--workers N | --serial]
 
 Over s = a_Hertz/h in [0.05, 10] (log-spaced) and mu_d in [0, 5], each model (hertz: Hertz
 pressure on the film, base transfer exact; goodman: frictionless pressure, friction loads the base
@@ -25,6 +25,10 @@ Goodman errors / |mu| (log least squares over points with 10 tol_ref < error < 0
 the bound is below 0.1 (so auto could pick the model) but below the measured error by more than
 the reference noise (2 x the reference tol).
 
+The s rows run as tasks of ``spectral_contact.sweep.map_tasks`` (a dask LocalCluster of --workers
+processes, default the cores; in this process with --serial or without dask.distributed): the
+tables are the same bit for bit either way.
+
 Writes model_map.csv (every point, every error), model_map_fit.csv (fit vs stored vs measured)
 and model_map.png (contour maps with 1 %, 5 %, 10 % levels, measured solid / bound dashed, and
 measured-vs-bound scatter).
@@ -45,8 +49,9 @@ from spectral_contact.numerics.grid import Grid
 from spectral_contact.physics.film import base_stresses
 from spectral_contact.reference.hertz import hertz_base_stresses, hertz_film_sinking, hertz_half_width
 from spectral_contact.solvers import auto
+from spectral_contact.sweep import map_tasks
 
-from ._common import parse, progress, table, write_rows
+from ._common import parse, table, write_rows
 
 METRICS = ("a", "c", "d", "pmax", "szz", "sxz")
 LEVELS = (0.01, 0.05, 0.10)
@@ -128,6 +133,22 @@ def measure(s: float, mu: float, tol_ref: float, goodman: _Goodman) -> dict:
             row[f"{tag}_{m}"] = float(e[m])
         row[f"{tag}_max"] = float(max(e.values()))
     return row
+
+
+def measure_s(task) -> tuple[list, float | None]:
+    """One s row of the map: ``task = (s, MU, tol_ref, check)``; returns the rows for every mu
+    and, if ``check``, the Goodman reconstruction's relative difference from
+    ``solve(model="goodman")`` at the largest mu (else None)."""
+    s, MU, tol_ref, check = task
+    gm = _Goodman(s, tol_ref)
+    rows = [measure(s, mu, tol_ref, gm) for mu in MU]
+    goodman_check = None
+    if check:
+        r = solve(scene_for(s, MU[-1]), model="goodman", tol=gm.tol)
+        zz, xz = gm.base(MU[-1])
+        goodman_check = float(max(np.max(np.abs(r.base_sigma_zz - zz)),
+                                  np.max(np.abs(r.base_sigma_xz - xz))) / np.max(np.abs(zz)))
+    return rows, goodman_check
 
 
 # --- fit ----------------------------------------------------------------------------------------
@@ -274,7 +295,9 @@ def _plot(rows, S, MU, fits, path):
 
 
 def main(argv=None) -> int:
-    args, out = parse(argv, __doc__.splitlines()[0], "out/model_map")
+    args, out = parse(argv, __doc__.splitlines()[0], "out/model_map", engine=True)
+    if args.workers is not None and args.workers < 1:
+        raise SystemExit(f"--workers must be >= 1; got {args.workers}")
     if args.quick:
         S = [float(v) for v in np.geomspace(0.05, 10, 6)]
         MU = [0.0, 0.1, 0.5, 1.0, 2.0, 5.0]
@@ -284,19 +307,16 @@ def main(argv=None) -> int:
         MU = [0.0, 0.05, 0.1, 0.2, 0.35, 0.5, 0.75, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0, 4.5, 5.0]
         tol_ref = 1e-5
     t0 = time.perf_counter()
-    rows = []
-    goodman_check = None
-    for i, s in enumerate(S, 1):
-        gm = _Goodman(s, tol_ref)
-        for mu in MU:
-            rows.append(measure(s, mu, tol_ref, gm))
-        if goodman_check is None:  # the Goodman reconstruction is the solver's Goodman model
-            r = solve(scene_for(s, MU[-1]), model="goodman", tol=gm.tol)
-            zz, xz = gm.base(MU[-1])
-            goodman_check = max(np.max(np.abs(r.base_sigma_zz - zz)),
-                                np.max(np.abs(r.base_sigma_xz - xz))) / np.max(np.abs(zz))
-        worst = max(r_["G_max"] for r_ in rows[-len(MU):])
-        progress(i, len(S), f"a/h_hertz = {s:.3g}: goodman max error up to {worst:.2g}", t0)
+    # one task per s (its Goodman solve serves every mu) on the sweep engine; the first also
+    # checks the Goodman reconstruction against the solver's Goodman model
+    import importlib
+
+    task = importlib.import_module("studies.model_map").measure_s  # by reference, not __main__
+    tasks = [(s, MU, tol_ref, i == 0) for i, s in enumerate(S)]
+    results = map_tasks(task, tasks, engine="serial" if args.serial else "auto",
+                        workers=args.workers, unit="s rows")
+    rows = [r for rs, _ in results for r in rs]
+    goodman_check = results[0][1]
     cols = ["s", "mu", "a_exact", "H_a", "H_pmax", "H_szz", "H_sxz", "H_max",
             "G_c", "G_szz", "G_sxz", "G_max"]
     printed = []

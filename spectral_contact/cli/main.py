@@ -18,7 +18,7 @@ from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR
 __all__ = ["main", "build_parser"]
 
 # modules that add subcommands: each exposes register(subparsers)
-_PLUGINS = ("spectral_contact.cli.mems",)
+_PLUGINS = ("spectral_contact.cli.mems", "spectral_contact.cli.sweep")
 
 
 class _Parser(argparse.ArgumentParser):

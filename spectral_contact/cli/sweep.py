@@ -1,0 +1,90 @@
+"""The ``sweep`` subcommand: the Cartesian product of scene options on a dask engine.
+
+    spectral-contact sweep --load 20:380:40 --mu 0.3,1,2,3 --out results/ [--workers N |
+        --scheduler tcp://HOST:PORT | --serial] [--spec FILE.toml] [--profiles] [--json]
+
+``register(subparsers)`` adds it to the main parser (``cli.main``).  A bad specification (an empty
+range, a step <= 0, an unknown option or value, an unreachable scheduler, a missing extra) raises
+InputError before any scene is solved (one line, exit 2, nothing written).  Failing scenes are
+rows of the table with their status; the command exits 0 once the table is written.  Ctrl-C
+exits 130 and keeps every finished scene (rerun the same command to resume).
+"""
+from __future__ import annotations
+
+import json
+import sys
+
+from ..errors import InputError
+
+__all__ = ["register"]
+
+
+def register(subparsers) -> None:
+    """Add ``sweep`` to an argparse subparsers object."""
+    from ..sweep import OPTIONS
+
+    p = subparsers.add_parser(
+        "sweep", help="solve the Cartesian product of option values (dask engine), one table",
+        description="Each option takes a value, a comma list (0.3,1,2) or ranges start:stop:step "
+                    "(stop included), SI units; a negative first value needs '=' (--mu=-1,1). "
+                    "Writes OUT/summary.csv (+ .parquet with pyarrow) and stores each scene in "
+                    "OUT/scenes/ as it finishes: rerunning solves only what is missing.")
+    for name, (_kind, default, unit, text) in OPTIONS.items():
+        if isinstance(unit, tuple):
+            h = f"{text}: {','.join(unit)} (default {default})"
+        else:
+            d = "chosen from --tol" if default is None else f"{default:g}"
+            h = f"{text}{f' [{unit}]' if unit else ''} (default {d})"
+        p.add_argument(f"--{name.replace('_', '-')}", dest=name, metavar="VALUES", default=None, help=h)
+    p.add_argument("--spec", metavar="FILE.toml", default=None,
+                   help="options in a TOML file (option = value, list or \"start:stop:step\"); "
+                        "options on the command line override it")
+    p.add_argument("--out", metavar="DIR", required=True, help="results directory (created)")
+    eng = p.add_mutually_exclusive_group()
+    eng.add_argument("--workers", type=int, default=None,
+                     help="worker processes of a local dask cluster (default: the cores)")
+    eng.add_argument("--scheduler", metavar="tcp://HOST:PORT", default=None,
+                     help="a running dask scheduler instead of a local cluster")
+    p.add_argument("--scheduler-timeout", type=float, default=10.0, metavar="S",
+                   help="seconds to wait for --scheduler before giving up (default 10)")
+    eng.add_argument("--serial", action="store_true", help="solve in this process (debugging)")
+    p.add_argument("--profiles", action="store_true", help="write OUT/profiles/<key>.csv per scene")
+    p.add_argument("--json", action="store_true", help="print one JSON object; no progress bar")
+    p.set_defaults(func=_cmd_sweep)
+
+
+def _cmd_sweep(args) -> int:
+    from ..sweep import OPTIONS, STATUSES, sweep
+
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers must be >= 1; got {args.workers}")
+    if not args.scheduler_timeout > 0:
+        raise InputError(f"--scheduler-timeout must be > 0 s; got {args.scheduler_timeout}")
+    options = {k: getattr(args, k) for k in OPTIONS if getattr(args, k) is not None}
+    info = {}
+    try:
+        df = sweep(args.spec, out=args.out, engine="serial" if args.serial else "local",
+                   workers=args.workers, scheduler=args.scheduler,
+                   scheduler_timeout=args.scheduler_timeout, profiles=args.profiles,
+                   progress=not args.json, info=info, **options)
+    except KeyboardInterrupt:
+        print(f"interrupted: finished scenes are kept in {args.out}/scenes; rerun the same "
+              "command to resume", file=sys.stderr)
+        return 130
+    from pathlib import Path
+
+    out = Path(args.out)
+    parquet = out / "summary.parquet"
+    rec = {"scenes": info["scenes"], "reused": info["reused"], "solved": info["solved"],
+           "statuses": info["statuses"], "engine": info["engine"],
+           "elapsed_s": info["elapsed_s"], "summary_csv": str(out / "summary.csv"),
+           "summary_parquet": str(parquet) if parquet.is_file() else None,
+           "profiles": str(out / "profiles") if args.profiles else None}
+    if args.json:
+        print(json.dumps(rec, indent=2))
+    else:
+        counts = ", ".join(f"{info['statuses'][s]} {s}" for s in STATUSES if info["statuses"][s])
+        print(f"{len(df)} scenes: {counts} ({info['reused']} reused, {info['solved']} solved"
+              f"{', ' + info['engine'] if info['solved'] else ''}, {info['elapsed_s']:.1f} s); "
+              f"wrote {rec['summary_csv']}" + (f" and {parquet}" if rec["summary_parquet"] else ""))
+    return 0
