@@ -10,6 +10,8 @@ loads the base only), "hertz" (closed form) and "auto" (the cheapest adequate on
 """
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from .errors import InputError
@@ -35,6 +37,12 @@ def solve(scene: Scene | Scene3D | None = None, *, model: str = "exact", method:
         "cylinder" (finite, ``length`` [m]), "paraboloid" (``radius_x``, ``radius_y`` [m]) or a
         callable height(x_m, y_m) -> m (any shape), each pressed with ``force`` [N]
         (``Scene3D``).  ``load`` with a 3D indenter, or ``force`` with a line, is an InputError.
+        Beyond the paper's assumptions (line indenter, ``Scene``): ``poisson`` in [0, 0.5],
+        ``friction_law`` "amontons" | "power" | "linear" with ``friction_exponent``,
+        ``friction_pref`` [Pa], ``shear_strength`` [Pa], ``shear_slope``;
+        ``interface_compliance`` [m/Pa], or ``interface_law`` "exponential" with
+        ``interface_pressure`` [Pa] and ``interface_length`` [m]: they need the FFT method and
+        model exact or goodman (auto picks exact).
     model : {"exact", "goodman", "hertz", "auto"}
         "exact": the paper's exact model (friction coupled into the contact); "goodman":
         frictionless pressure and window, friction loads the base only; "hertz": closed-form
@@ -93,10 +101,11 @@ def make_scene(indenter="line", **params) -> Scene | Scene3D:
         if "force" in params:
             raise InputError("force [N] is for 3D indenters (sphere, cylinder, paraboloid); a line "
                              "indenter takes load [N/m]")
-        bad = set(params) - {"load", "mu", "young", "radius", "thickness"}
+        known = {f.name for f in dataclasses.fields(Scene)}  # incl. issue 14's refinements
+        bad = set(params) - known
         if bad:
             raise InputError(f"{', '.join(sorted(bad))}: not a parameter of a line indenter "
-                             f"(load, mu, young, radius, thickness)")
+                             f"({', '.join(sorted(known))})")
         return Scene(**params)
     if "load" in params:
         raise InputError(f"load [N/m] is for a line indenter; a {indenter} takes force [N]")

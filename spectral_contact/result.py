@@ -22,10 +22,11 @@ half-width) and inner ones (GMRES matrix-vector products, or Nystrom solves), su
 level of the resolution control."""
 
 JSON_KEYS = (
-    "model", "method", "load_N_per_m", "mu", "young_Pa", "radius_m", "thickness_m",
+    "model", "method", "load_N_per_m", "mu", "young_Pa", "poisson", "radius_m", "thickness_m",
     "half_width_m", "contact_center_m", "x0_m", "indentation_m", "max_pressure_Pa",
-    "max_pressure_x_m", "contact_intervals_m", "grid_points", "domain_length_m", "iterations",
-    "residual", "error_estimate", "wall_time_s", "plan_time_s",
+    "max_pressure_x_m", "contact_intervals_m", "friction_law", "Q_over_P",
+    "interface_compliance_m_per_Pa", "interface_law", "grid_points", "domain_length_m",
+    "iterations", "residual", "error_estimate", "wall_time_s", "plan_time_s",
 )
 PROFILE_COLUMNS = ("x_m", "pressure_Pa", "surface_shear_Pa", "base_sigma_zz_Pa", "base_sigma_xz_Pa")
 _SCALARS = ("half_width", "center", "indentation", "max_pressure", "max_pressure_x", "grid_points",
@@ -37,7 +38,8 @@ _ARRAYS = ("x", "pressure", "base_sigma_zz", "base_sigma_xz")
 class ContactResult:
     """Solution of one scene.
 
-    Dimensionless fields (lengths in h, displacements in h^2/2R, stresses in E h/6R):
+    Dimensionless fields (lengths in h, displacements in h^2/2R, stresses in G h/2R = E h/6R
+    at nu = 1/2; ``physics.scene``):
 
     x : ndarray            profile abscissae, apex frame
     pressure : ndarray     p(x) >= 0, the contact pressure (= -sigma_zz(x, h))
@@ -82,12 +84,23 @@ class ContactResult:
     plan_time_s: float = 0.0
     info: dict = field(default_factory=dict)
     counters: dict = field(default_factory=lambda: dict.fromkeys(COUNTER_KEYS, 0))
+    shear: np.ndarray | None = None  # the surface shear q(x) when it is not mu_d p (friction laws)
 
     # --- SI views -----------------------------------------------------------------------------
     @property
     def surface_shear(self) -> np.ndarray:
-        """sigma_xz(x, h) = mu_d p(x) (Amontons), dimensionless."""
+        """sigma_xz(x, h): mu_d p(x) (Amontons) or the friction law's q(x), dimensionless."""
+        if self.shear is not None:
+            return self.shear
         return self.scene.mu * self.pressure
+
+    @property
+    def friction_ratio(self) -> float:
+        """The macroscopic Q/P = Int q dx / Int p dx (mu_d for Amontons; 0 without contact)."""
+        if self.shear is None:
+            return float(self.scene.mu)
+        P = float(np.sum(self.pressure))
+        return float(np.sum(self.shear)) / P if P > 0 else 0.0
 
     @property
     def x0(self) -> float:
@@ -138,6 +151,27 @@ class ContactResult:
     def mu(self) -> float:
         """mu_d, the signed friction coefficient (> 0: sliding toward +x)."""
         return self.scene.mu
+
+    @property
+    def poisson(self) -> float:
+        return self.scene.poisson
+
+    @property
+    def friction_law(self) -> str:
+        return self.scene.friction_law
+
+    @property
+    def Q_over_P(self) -> float:  # noqa: N802 (the JSON key)
+        """The macroscopic Q/P (``friction_ratio``)."""
+        return self.friction_ratio
+
+    @property
+    def interface_compliance_m_per_Pa(self) -> float:
+        return self.scene.interface_compliance
+
+    @property
+    def interface_law(self) -> str:
+        return self.scene.interface_law
 
     @property
     def young_Pa(self) -> float:
@@ -210,6 +244,10 @@ class ContactResult:
         for key, value in rec.items():
             if isinstance(value, np.generic):
                 rec[key] = value.item()
+        rec |= self.scene.friction.describe()  # the law's parameters (none for Amontons)
+        if self.scene.interface_law == "exponential":
+            rec |= {"interface_pressure_Pa": self.scene.interface_pressure,
+                    "interface_length_m": self.scene.interface_length}
         if self.auto_reason is not None:
             rec["auto_reason"] = self.auto_reason
         return rec
@@ -322,7 +360,8 @@ def _plot(result, ax=None, sensor=None):
     if s.mu != 0.0:
         tw = a0.twinx()
         tw.plot(x[sel], result.surface_shear_Pa[sel] * kPa, "--", color="C3",
-                label=f"surface shear sigma_xz(x, h) = {s.mu:g} p (right axis)")
+                label=("surface shear sigma_xz(x, h) (right axis)" if result.shear is not None
+                       else f"surface shear sigma_xz(x, h) = {s.mu:g} p (right axis)"))
         tw.set_ylabel("surface shear [kPa]", color="C3")
         lo_p, hi_p = a0.get_ylim()
         # the right axis is the left one times mu_d: the curves coincide (mirror for mu_d < 0)
@@ -368,8 +407,9 @@ def _plot(result, ax=None, sensor=None):
     return fig
 
 JSON_KEYS_3D = (
-    "model", "method", "indenter", "force_N", "mu", "young_Pa", "radius_m", "thickness_m",
-    "contact_area_m2", "contact_radius_m", "contact_x_min_m", "contact_x_max_m",
+    "model", "method", "indenter", "force_N", "mu", "young_Pa", "poisson", "radius_m",
+    "thickness_m", "friction_law", "Q_over_P", "interface_compliance_m_per_Pa", "contact_area_m2",
+    "contact_radius_m", "contact_x_min_m", "contact_x_max_m",
     "contact_y_half_width_m", "pressure_centroid_x_m", "indentation_m", "max_pressure_Pa",
     "max_pressure_x_m", "max_pressure_y_m", "line_load_y0_N_per_m", "grid_points",
     "domain_length_m", "iterations", "residual", "error_estimate", "wall_time_s", "plan_time_s",
@@ -426,6 +466,7 @@ class ContactResult3D:
     plan_time_s: float = 0.0
     info: dict = field(default_factory=dict)
     counters: dict = field(default_factory=lambda: dict.fromkeys(COUNTER_KEYS, 0))
+    shear: np.ndarray | None = None  # surface shear q(x, y) along x when not mu_d p (issue 14)
 
     @property
     def indentation(self) -> float:
@@ -484,8 +525,12 @@ class ContactResult3D:
         m, S = self.measures, self.scene.stress_unit
         out = {
             "model": self.model, "method": self.method, "indenter": s.indenter,
-            "force_N": s.force, "mu": s.mu, "young_Pa": s.young, "radius_m": s.radius,
-            "thickness_m": s.thickness,
+            "force_N": s.force, "mu": s.mu, "young_Pa": s.young, "poisson": s.poisson,
+            "radius_m": s.radius, "thickness_m": s.thickness,
+        } | s.friction.describe() | {
+            "Q_over_P": (float(s.mu) if self.shear is None else
+                         float(np.sum(self.shear)) / max(float(np.sum(self.pressure)), 1e-300)),
+            "interface_compliance_m_per_Pa": s.interface_compliance,
         }
         if s.indenter == "cylinder":
             out["length_m"] = s.length
@@ -536,7 +581,8 @@ class ContactResult3D:
         return {
             "x_m": self.x * L,
             "pressure_Pa": self.pressure[:, j] * S,
-            "surface_shear_Pa": s.mu * self.pressure[:, j] * S,
+            "surface_shear_Pa": (s.mu * self.pressure[:, j] if self.shear is None
+                                 else self.shear[:, j]) * S,
             "base_sigma_zz_Pa": self.base_sigma_zz[:, j] * S,
             "base_sigma_xz_Pa": self.base_sigma_xz[:, j] * S,
         }

@@ -16,6 +16,9 @@ A. "film": the paper's scene at mu_d = 0 (a/h_hertz = 1.68), the film on its rig
    qy = 0 mode: exactly the line contact) of unit length in y, with the load per unit length.
    With nu -> 1/2 its layer factor (3-4nu) cosh 2q + 2q^2 + ... is the paper's D/(sinh 2k - 2k)
    = 1/F0, so the two compliances are the same symbol.
+C. "film nu": the paper's scene at mu_d = 0 on a compressible film (nu = 0.3, 0.4; 0.3 only
+   with --quick): ContactMechanics' layer with poisson = nu and E = 2G(1 + nu), G = 1 (its
+   normal compliance is ours to 7e-16, k = 0 included: tests/test_compressible.py).
 B. "thick film vs half-space": a/h_hertz = 0.02 (0.05 with --quick).  Peers: tamaas
    ``model_type.basic_1d`` (1D periodic half-space, plane strain: Westergaard kernel) with its
    Polonsky-Keer-Rey solver, and ContactMechanics on a 1D grid (half-space).  They solve the
@@ -54,7 +57,7 @@ from spectral_contact import Scene, solve
 from spectral_contact.numerics.contact import solve_contact
 from spectral_contact.numerics.fft import get_rfft
 from spectral_contact.numerics.grid import Grid
-from spectral_contact.physics.film import surface_compliance
+from spectral_contact.physics.film import Film, surface_compliance
 from spectral_contact.physics.indenters import Cylinder
 from spectral_contact.reference.hertz import hertz_half_width, hertz_pressure
 
@@ -132,26 +135,32 @@ def _row(case, solver, version, grid, P, p, t, its, cost, symbol, p_ref, a_sub=f
 
 
 # --- solvers on a given grid: each a runner doing one cold solve, timing the solve call only ---
-def ours_runner(grid: Grid, P: float):
+def ours_runner(grid: Grid, P: float, nu: float = 0.5):
     ind = [Cylinder(0.0, P)]
+    film = None if nu == 0.5 else Film(poisson=nu)
 
     def run():
         t = time.perf_counter()
-        sol = solve_contact(grid, 0.0, ind, rtol=RTOL)
+        sol = solve_contact(grid, 0.0, ind, rtol=RTOL, film=film)
         dt = time.perf_counter() - t
         return {"p": sol.pressure, "t": dt, "its": f"{sol.iterations} ({sol.krylov_iterations})",
                 "cost": sol.fft_pairs, "note": "", "sol": sol}
     return run
 
 
-def contactmechanics_runner(grid: Grid, P: float, film: bool, d_scale: float, p_scale: float):
+def contactmechanics_runner(grid: Grid, P: float, film: bool, d_scale: float, p_scale: float,
+                            nu: float = 0.5):
     from ContactMechanics import PeriodicFFTElasticHalfSpace
     from ContactMechanics.Optimization import constrained_conjugate_gradients
 
     n, L = grid.n, grid.length
     if film:  # layer Green's function exists for 2D grids only: y-invariant strip, ny = 1
-        sub = PeriodicFFTElasticHalfSpace((n, 1), 3.0, physical_sizes=(L, 1.0), thickness=1.0,
-                                          poisson=0.499999)
+        if nu == 0.5:
+            sub = PeriodicFFTElasticHalfSpace((n, 1), 3.0, physical_sizes=(L, 1.0), thickness=1.0,
+                                              poisson=0.499999)
+        else:  # compressible: E = 2 G (1 + nu) with G = 1, the core's stress unit
+            sub = PeriodicFFTElasticHalfSpace((n, 1), 2.0 * (1.0 + nu), physical_sizes=(L, 1.0),
+                                              thickness=1.0, poisson=nu)
         heights = (-(grid.x**2))[:, None]
         force = P * 1.0
     else:     # 1D: half-space, young is the contact modulus E* when poisson is not given
@@ -257,21 +266,23 @@ def run_case(case, scene, tol, versions, halfspace: bool):
     r = solve(scene, tol=tol)
     grid = Grid(r.grid_points, r.domain_length, float(r.x[0]))
     P = scene.P
-    film_sym = surface_compliance(grid.k, 0.0).real
+    nu = scene.poisson
+    film_sym = (surface_compliance(grid.k, 0.0).real if nu == 0.5 else
+                Film(poisson=nu).surface_compliance((np.ones_like(grid.k),), grid.k, 0.0).real)
     hs_sym = halfspace_symbol(grid)
     p_hertz = hertz_pressure(grid.x, hertz_half_width(P)) if halfspace else None
     OURS = "spectral_contact (film)"
-    first = ours_runner(grid, P)()
+    first = ours_runner(grid, P, nu)()
     d_scale, p_scale = float(first["sol"].indentations[0]), float(first["p"].max())
 
     specs = [("ContactMechanics film (2D strip, ny=1)", "ContactMechanics",
-              lambda: contactmechanics_runner(grid, P, True, d_scale, p_scale), film_sym)]
+              lambda: contactmechanics_runner(grid, P, True, d_scale, p_scale, nu), film_sym)]
     if halfspace:
         specs += [("ContactMechanics half-space (1D)", "ContactMechanics",
                    lambda: contactmechanics_runner(grid, P, False, d_scale, p_scale), hs_sym),
                   ("tamaas half-space (basic_1d, PKR)", "tamaas",
                    lambda: tamaas_runner(grid, P), hs_sym)]
-    runners = {OURS: ours_runner(grid, P)}
+    runners = {OURS: ours_runner(grid, P, nu)}
     symbols = {OURS: film_sym}
     missing = {}
     for name, pkg, make, sym in specs:
@@ -374,6 +385,9 @@ def main(argv=None) -> int:
     rows, plots = [], []
     specs = [("A film", Scene(mu=0.0), False),
              (f"B thick film a/h={s_thick:g}", scene_for(s_thick, 0.0), True)]
+    # compressible films (issue 14): ContactMechanics' layer with poisson = nu
+    specs += [(f"C film nu={nu:g}", Scene(mu=0.0, poisson=nu), False)
+              for nu in ((0.3,) if args.quick else (0.3, 0.4))]
     for i, (case, scene, halfspace) in enumerate(specs, 1):
         r_rows, grid, curves = run_case(case, scene, tol, versions, halfspace)
         rows += r_rows

@@ -47,6 +47,27 @@ def _add_scene_options(p):
     p.add_argument("--young", type=float, default=d.young, help=f"E [Pa] (default {d.young:g})")
     p.add_argument("--radius", type=float, default=d.radius, help=f"R [m] (default {d.radius:g})")
     p.add_argument("--thickness", type=float, default=d.thickness, help=f"h [m] (default {d.thickness:g})")
+    p.add_argument("--poisson", type=float, default=d.poisson,
+                   help=f"nu, the film's Poisson ratio in [0, 0.5] (default {d.poisson:g}: "
+                        "incompressible; < 0.5 needs --method fft)")
+    p.add_argument("--friction-law", choices=("amontons", "power", "linear"), default="amontons",
+                   help="amontons: q = mu p (default); power: q = mu (p/p_ref)^-n p; "
+                        "linear: q = tau_0 + alpha p in the contact (--method fft)")
+    p.add_argument("--friction-exponent", type=float, default=None,
+                   help="n of the power law, in [0, 1) (default 0)")
+    p.add_argument("--friction-pref", type=float, default=None, help="p_ref of the power law [Pa], > 0")
+    p.add_argument("--shear-strength", type=float, default=None,
+                   help="tau_0 of the linear law [Pa] (same sign as --shear-slope)")
+    p.add_argument("--shear-slope", type=float, default=None, help="alpha of the linear law")
+    p.add_argument("--interface-compliance", type=float, default=0.0,
+                   help="C [m/Pa] >= 0: the interface closes by C p (default 0: rigid; --method fft)")
+    p.add_argument("--interface-law", choices=("linear", "exponential"), default="linear",
+                   help="linear: --interface-compliance (default); exponential: p = p0 exp(-g/lambda) "
+                        "at an interface gap g (soft edges; --method fft, Amontons friction)")
+    p.add_argument("--interface-pressure", type=float, default=None,
+                   help="p0 of the exponential interface law [Pa], > 0")
+    p.add_argument("--interface-length", type=float, default=None,
+                   help="lambda of the exponential interface law [m], > 0")
 
 
 def _plural(n: int, word: str) -> str:
@@ -64,7 +85,8 @@ def _summary_text(r, view=None) -> str:
     at = f" at x = {s['max_pressure_x_m'] * mm:.4f} mm" if loaded else ""
     lines = [
         f"{s['model']} model, {s['method']} method: P_L = {s['load_N_per_m']:g} N/m, mu_d = {s['mu']:g}, "
-        f"E = {s['young_Pa'] / 1e6:g} MPa, R = {s['radius_m'] * mm:g} mm, h = {s['thickness_m'] * mm:g} mm",
+        f"E = {s['young_Pa'] / 1e6:g} MPa, R = {s['radius_m'] * mm:g} mm, h = {s['thickness_m'] * mm:g} mm"
+        + (f", nu = {s['poisson']:g}" if s["poisson"] != 0.5 else ""),
         f"  contact half-width a     {s['half_width_m'] * mm:10.5f} mm",
         f"  contact centre (apex=0)  {s['contact_center_m'] * mm:10.5f} mm   (paper's x0 = {s['x0_m'] * mm:.5f} mm)",
         f"  indentation              {s['indentation_m'] * 1e6:10.5f} um",
@@ -87,6 +109,13 @@ def _summary_text(r, view=None) -> str:
                        getattr(view, f"U_{c}_peak_mV"))
             lines.append(f"  sensor peak S_{c}         {S * kPa:10.4f} kPa at x = {x * mm:.4f} mm   "
                          f"(U_{c} = {U:.4f} mV)")
+    if s["friction_law"] != "amontons":
+        lines.append(f"  friction law {s['friction_law']}: Q/P = {s['Q_over_P']:.5f}")
+    if s["interface_compliance_m_per_Pa"]:
+        lines.append(f"  interface compliance     {s['interface_compliance_m_per_Pa']:g} m/Pa")
+    if s["interface_law"] == "exponential":
+        lines.append(f"  exponential interface    p0 = {s['interface_pressure_Pa']:g} Pa, lambda = "
+                     f"{s['interface_length_m']:g} m; {r.info.get('width_definition', '')}")
     if "auto_reason" in r.info:
         lines.append(f"  auto: {r.info['auto_reason']}")
     grid = (f"{s['grid_points']} Nystrom nodes, profiles over {s['domain_length_m'] * mm:.2f} mm"
@@ -132,7 +161,12 @@ def _cmd_solve(args) -> int:
             raise InputError(f"--{opt.replace('_', '-')} is for 3D indenters (--indenter sphere, "
                              f"cylinder, paraboloid); the line indenter takes --load [N/m]")
     scene = Scene(load=PAPER_SCENE.load if args.load is None else args.load, mu=args.mu,
-                  young=args.young, radius=args.radius, thickness=args.thickness)
+                  young=args.young, radius=args.radius, thickness=args.thickness,
+                  poisson=args.poisson, friction_law=args.friction_law,
+                  friction_exponent=args.friction_exponent, friction_pref=args.friction_pref,
+                  shear_strength=args.shear_strength, shear_slope=args.shear_slope,
+                  interface_compliance=args.interface_compliance, interface_law=args.interface_law,
+                  interface_pressure=args.interface_pressure, interface_length=args.interface_length)
     if args.plot:
         check_plot_path(args.plot)
     apparatus = None
@@ -215,13 +249,24 @@ def _cmd_solve3d(args) -> int:
                          f"--force [N]")
     if args.method != "fft":
         raise InputError(f"--method {args.method} is for the line indenter; 3D indenters use fft")
+    # issue 14: --poisson, the friction laws and the linear interface work in 3D; the
+    # exponential interface law is line-only
+    for opt, default in (("interface_law", "linear"), ("interface_pressure", None),
+                         ("interface_length", None)):
+        if getattr(args, opt) != default:
+            raise InputError(f"--{opt.replace('_', '-')} applies to the line indenter only (3D "
+                             f"indenters: the linear --interface-compliance)")
     for opt, kind in (("length", "cylinder"), ("radius_x", "paraboloid"), ("radius_y", "paraboloid")):
         if getattr(args, opt) is not None and args.indenter != kind:
             raise InputError(f"--{opt.replace('_', '-')} applies to --indenter {kind} only")
     kw = {"length": args.length} if args.length is not None else {}
     scene = Scene3D(indenter=args.indenter, force=1.0 if args.force is None else args.force,
                     mu=args.mu, young=args.young, radius=args.radius, thickness=args.thickness,
-                    radius_x=args.radius_x, radius_y=args.radius_y, **kw)
+                    radius_x=args.radius_x, radius_y=args.radius_y, poisson=args.poisson,
+                    friction_law=args.friction_law, friction_exponent=args.friction_exponent,
+                    friction_pref=args.friction_pref, shear_strength=args.shear_strength,
+                    shear_slope=args.shear_slope, interface_compliance=args.interface_compliance,
+                    **kw)
     for path, what in ((args.plot, "--plot"), (args.maps, "--maps"), (args.profiles, "--profiles")):
         if path is not None and not Path(path).absolute().parent.is_dir():
             raise InputError(f"{what} {path}: directory {Path(path).parent} does not exist")

@@ -20,7 +20,10 @@ from .files import check_plot_path
 __all__ = ["register", "COMPARE_JSON_KEYS", "CALIBRATE_JSON_KEYS"]
 
 COMPARE_JSON_KEYS = ("load_N_per_m", "mu", "offset_m", "chi_zz_exact", "chi_xz_exact",
-                     "chi_zz_goodman", "chi_xz_goodman", "fit_load_N_per_m", "fit_mu")
+                     "chi_zz_goodman", "chi_xz_goodman", "fit_load_N_per_m", "fit_mu", "fits",
+                     "best_model")
+_EXTRA_KEYS = ("poisson", "poisson_sigma", "interface_compliance_m_per_Pa",
+               "interface_compliance_sigma")
 CALIBRATE_JSON_KEYS = ("component", "method", "A_mV_per_bar", "A_lo_mV_per_bar",
                        "A_hi_mV_per_bar", "noise_sd_mV", "points", "out")
 
@@ -56,13 +59,16 @@ def register(subparsers) -> None:
         description="Extract P_L = Int S_zz dx and mu_d = Int S_xz / Int S_zz from a measured "
                     "profile, solve both models, view them through the sensor, fit the "
                     "sensor-apex offset, report chi per component and model; also fit P_L, "
-                    "mu_d and the offset directly (exact model).")
+                    "mu_d and the offset directly for each model, with 1-sigma uncertainties, "
+                    "chi per component and AIC (JSON 'fits', keyed by model; 'best_model').")
     p.add_argument("measured", metavar="MEASURED.csv",
                    help="columns x_m,S_zz_Pa,S_xz_Pa or x_m,U_zz_mV,U_xz_mV (uniform x)")
     p.add_argument("--young", type=_positive("--young"), default=2.2e6, help="E [Pa] (2.2e6)")
     p.add_argument("--radius", type=_positive("--radius"), default=0.130, help="R [m] (0.130)")
     p.add_argument("--thickness", type=_positive("--thickness"), default=0.002,
                    help="h [m] (0.002)")
+    p.add_argument("--poisson", type=float, default=0.5,
+                   help="nu of the models' film, in [0, 0.5] (0.5); --fit-poisson starts there")
     p.add_argument("--a-zz", type=_positive("--a-zz"), default=A_ZZ_MV_PER_BAR,
                    help=f"A_zz [mV/bar] for U files ({A_ZZ_MV_PER_BAR:.2f})")
     p.add_argument("--a-xz", type=_positive("--a-xz"), default=A_XZ_MV_PER_BAR,
@@ -72,7 +78,13 @@ def register(subparsers) -> None:
     p.add_argument("--apparatus-xz", metavar="G.csv", default=None,
                    help="radial G_xz instead of the paper's")
     p.add_argument("--tol", type=float, default=1e-4, help="solver tolerance (1e-4)")
-    p.add_argument("--no-fit", action="store_true", help="skip the direct fit of P_L, mu_d")
+    p.add_argument("--no-fit", action="store_true", help="skip the direct fits of P_L, mu_d")
+    p.add_argument("--fit-poisson", action="store_true",
+                   help="also fit the exact model with the film's Poisson ratio free (in [0, 0.5]):"
+                        " fits['exact+poisson'] with poisson, poisson_sigma")
+    p.add_argument("--fit-interface", action="store_true",
+                   help="also fit the exact model with a linear interface compliance C >= 0 free:"
+                        " fits['exact+interface'] with interface_compliance_m_per_Pa and its sigma")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="FILE.png", help="measured points and both models")
     p.set_defaults(func=_cmd_compare)
@@ -120,28 +132,43 @@ def _apparatus(args):
 
 def _cmd_compare(args) -> int:
     from ..api import check_tol
-    from ..instruments.compare import compare_models, fit_load_mu, integral_estimates
+    from ..instruments.compare import FIT_KEYS, compare_models, fit_model, integral_estimates
     from ..instruments.measured_io import read_measured_profile
-    from ..physics.scene import Scene
+    from ..physics.scene import Scene, check_poisson
 
     tol = check_tol(args.tol)
+    check_poisson(args.poisson)
     plot = _writable(args.plot, "--plot")
     prof = read_measured_profile(args.measured)
     apparatus = _apparatus(args)
     Szz, Sxz = prof.stresses(args.a_zz, args.a_xz)
     P, mu = integral_estimates(prof.x_m, Szz, Sxz)
-    scene = Scene(load=P, mu=mu, young=args.young, radius=args.radius, thickness=args.thickness)
+    scene = Scene(load=P, mu=mu, young=args.young, radius=args.radius, thickness=args.thickness,
+                  poisson=args.poisson)
     models = compare_models(prof.x_m, Szz, Sxz, scene, tol=tol, apparatus=apparatus)
     ex, go = models["exact"], models["goodman"]
     fit, fit_note = None, "skipped (--no-fit)" if args.no_fit else "ok"
+    fits = {}
     if not args.no_fit:
         from ..errors import ConvergenceError
 
-        try:
-            fit = fit_load_mu(prof.x_m, Szz, Sxz, scene, ex["offset_m"], tol=tol,
-                              apparatus=apparatus)
-        except (ConvergenceError, InputError) as exc:  # the comparison itself stands
-            fit_note = f"failed: {exc}".splitlines()[0]
+        # each model fitted directly (P_L, mu_d, offset), with 1-sigma uncertainties and AIC
+        for name, m in models.items():
+            try:
+                fits[name] = fit_model(prof.x_m, Szz, Sxz, scene, m["offset_m"], model=name,
+                                       tol=tol, apparatus=apparatus)
+            except (ConvergenceError, InputError) as exc:  # the comparison itself stands
+                fit_note = f"{name} fit failed: {exc}".splitlines()[0]
+        for name, flag, kw in (("exact+poisson", args.fit_poisson, {"fit_poisson": True}),
+                               ("exact+interface", args.fit_interface, {"fit_interface": True})):
+            if not flag:
+                continue
+            try:
+                fits[name] = fit_model(prof.x_m, Szz, Sxz, scene, ex["offset_m"], model="exact",
+                                       tol=tol, apparatus=apparatus, **kw)
+            except (ConvergenceError, InputError) as exc:
+                fit_note = f"{name} fit failed: {exc}".splitlines()[0]
+        fit = fits.get("exact")
     nan = float("nan")
     rec = {"load_N_per_m": P, "mu": mu, "offset_m": ex["offset_m"],
            "chi_zz_exact": ex["chi_zz"], "chi_xz_exact": ex["chi_xz"],
@@ -153,12 +180,19 @@ def _cmd_compare(args) -> int:
            "fit_chi_zz": fit["chi_zz"] if fit else nan,
            "fit_chi_xz": fit["chi_xz"] if fit else nan,
            "fit_note": fit_note, "points": int(prof.x_m.size), "input": prof.kind,
-           "young_Pa": args.young, "radius_m": args.radius, "thickness_m": args.thickness}
+           "young_Pa": args.young, "radius_m": args.radius, "thickness_m": args.thickness,
+           "poisson": scene.poisson,
+           "fits": {name: {k: f[k] for k in FIT_KEYS + _EXTRA_KEYS if k in f}
+                    for name, f in fits.items()},
+           "best_model": min(fits, key=lambda k: fits[k]["aic"]) if fits else None}
     if plot is not None:
-        _plot_compare(plot, prof, Szz, Sxz, models, fit, rec, (args.a_zz, args.a_xz))
+        _plot_compare(plot, prof, Szz, Sxz, models, fits, rec, (args.a_zz, args.a_xz))
     if args.json:
-        print(json.dumps({k: (None if isinstance(v, float) and not math.isfinite(v) else v)
-                          for k, v in rec.items()}, indent=2))
+        def clean(v):
+            if isinstance(v, dict):
+                return {k: clean(w) for k, w in v.items()}
+            return None if isinstance(v, float) and not math.isfinite(v) else v
+        print(json.dumps(clean(rec), indent=2))
     else:
         mm = 1e3
         lines = [
@@ -170,20 +204,28 @@ def _cmd_compare(args) -> int:
             f"  Goodman model        offset {go['offset_m'] * mm:8.4f} mm   "
             f"chi_zz {go['chi_zz']:.4f}   chi_xz {go['chi_xz']:.4f}",
         ]
-        if not fit:
+        if not fits or fit_note != "ok":
             lines.append(f"  direct fit           {fit_note}")
-        else:
+        for name, f in fits.items():
             lines.append(
-                f"  direct fit (exact)   P_L = {fit['load_N_per_m']:.4g} N/m, "
-                f"mu_d = {fit['mu']:.4g}, offset {fit['offset_m'] * mm:.4f} mm, "
-                f"chi_zz {fit['chi_zz']:.4f}, chi_xz {fit['chi_xz']:.4f}")
+                f"  fit {name:<8s}         P_L = {f['load_N_per_m']:.4g} +- {f['load_sigma']:.2g} N/m, "
+                f"mu_d = {f['mu']:.4g} +- {f['mu_sigma']:.2g}, offset {f['offset_m'] * mm:.4f} "
+                f"+- {f['offset_sigma'] * mm:.2g} mm, chi_zz {f['chi_zz']:.4f}, "
+                f"chi_xz {f['chi_xz']:.4f}, AIC {f['aic']:.1f}"
+                + (f", nu = {f['poisson']:.4f} +- {f['poisson_sigma']:.2g}" if "poisson" in f else "")
+                + (f", C = {f['interface_compliance_m_per_Pa']:.3g} +- "
+                   f"{f['interface_compliance_sigma']:.2g} m/Pa"
+                   if "interface_compliance_m_per_Pa" in f else ""))
+        if fits:
+            lines.append(f"  best model (AIC)     {rec['best_model']}")
         print("\n".join(lines))
     return 0
 
 
-def _plot_compare(path, prof, Szz, Sxz, models, fit, rec, gains=(19.00, 7.95)):
-    """Measured points and the models (in the file's units: S in kPa, or U in mV), each
-    component with its residual panel (measured - model)."""
+def _plot_compare(path, prof, Szz, Sxz, models, fits, rec, gains=(19.00, 7.95)):
+    """Measured points with each model's direct fit (or, with --no-fit, each model at the
+    integral estimates), in the file's units (S in kPa, or U in mV), each component with its
+    residual panel (measured - model)."""
     from matplotlib.figure import Figure
 
     from ..instruments.compare import _shifted
@@ -199,10 +241,15 @@ def _plot_compare(path, prof, Szz, Sxz, models, fit, rec, gains=(19.00, 7.95)):
         unit, what = "kPa", "S"
     fig = Figure(figsize=(7.5, 8.5), layout="constrained")
     axes = fig.subplots(4, 1, sharex=True, gridspec_kw={"height_ratios": [3, 1.3, 3, 1.3]})
-    curves = [(name, m, *{"exact": ("-", "C0"), "goodman": ("--", "C3")}.get(name, ("-", None)),
-               f"{name} model at the integral estimates") for name, m in models.items()]
-    if fit:
-        curves.append(("fit", fit, ":", "C2", "exact model, fitted P_L, mu_d"))
+    styles = {"exact": ("-", "C0"), "goodman": ("--", "C3"), "exact+poisson": ("-.", "C2"),
+              "exact+interface": (":", "C4")}
+    if fits:
+        curves = [(name, m, *styles.get(name, ("-", None)),
+                   f"{name} fit: P_L {m['load_N_per_m']:.4g} N/m, mu_d {m['mu']:.3g}")
+                  for name, m in fits.items()]
+    else:
+        curves = [(name, m, *styles.get(name, ("-", None)), f"{name} model at the integral estimates")
+                  for name, m in models.items()]
     for (ax, res), E, c in (((axes[0], axes[1]), Szz, "zz"), ((axes[2], axes[3]), Sxz, "xz")):
         key, k = f"S_{c}_Pa", scale[c]
         ax.plot(x[::step] * mm, E[::step] * k, "o", ms=3, mfc="none", color="k", label="measured")
@@ -219,9 +266,9 @@ def _plot_compare(path, prof, Szz, Sxz, models, fit, rec, gains=(19.00, 7.95)):
         res.set_ylabel(f"measured - model\n[{unit}]", fontsize=8)
         ax.legend(fontsize=7)
     name = Path(prof.path).name
-    if fit:
-        title = (f"{name}: fit P_L = {fit['load_N_per_m']:.4g} N/m, mu_d = {fit['mu']:.4g} "
-                 f"(integral estimates {rec['load_N_per_m']:.4g} N/m, {rec['mu']:.4g})")
+    if fits:
+        title = (f"{name}: direct fits, best by AIC {rec['best_model']} (integral estimates "
+                 f"{rec['load_N_per_m']:.4g} N/m, {rec['mu']:.4g})")
     else:
         title = (f"{name}: P_L = {rec['load_N_per_m']:.4g} N/m, mu_d = {rec['mu']:.4g} (integral "
                  f"estimates, biased low when the window cuts the tails; no fit)")

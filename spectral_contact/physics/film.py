@@ -1,5 +1,5 @@
-"""The film: an incompressible elastic layer of thickness h bonded to a rigid base, and the one
-factory of its Fourier symbols (physics.md; physics3d.md; the paper's Eqs. bc3-bc4, Z1-Z6).
+"""The film: an elastic layer (incompressible by default) of thickness h bonded to a rigid
+base, and the one factory of its Fourier symbols (physics.md; physics3d.md; the paper's Eqs. bc3-bc4, Z1-Z6).
 
 Conventions.  Fields are sums of exp(+i k.x) (numpy's), x = (x, y) on the surface, x the sliding
 direction.  A wavevector is given as its direction n = k/|k| (a tuple of broadcastable arrays,
@@ -11,17 +11,19 @@ tau = (sigma_xz, sigma_yz); base (z = 0) tractions are returned the same way.
 Surface compliance, for sliding along the unit vector e with Amontons friction tau = mu p e:
 the surface sinks by w = -u_z with
 
-    w^ = H p^,     H = [F0(K) + i mu (e . n) F1(K)] / (2 |k|),     H(k = 0) = 0,
+    w^ = H p^,     H = [F0(K) + i mu (e . n) F1(K)] / (2 |k|),     H(k = 0) = 0 (nu = 1/2),
 
-in units of 1/G (G = E/3); in the paper's dimensionless units (k in 1/h, stresses in G h/2R,
-displacements in h^2/2R) exactly the expression above.  The mu term is odd in k: the operator
-is not symmetric.  H(0) = 0: a uniform pressure does not move an incompressible film.
+in units of 1/G (G = E/3 at nu = 1/2; G = E/(2(1 + nu)) in general, with F0, F1 of the
+compressible film for nu < 1/2 and H(0) = (1 - 2nu) h/(2(1 - nu))); in the paper's
+dimensionless units (k in 1/h, stresses in G h/2R, displacements in h^2/2R) exactly the
+expression above.  The mu term is odd in k: the operator is not symmetric.  H(0) = 0: a uniform
+pressure does not move an incompressible film (a compressible one sinks by H(0) p).
 
 Base stresses, from the surface tractions (by isotropy each mode splits into the sagittal
 plane-strain problem along n and an anti-plane one across it, physics3d.md):
 
     sigma_zz^(0) = A sigma_zz^(h) + i B tau_L^(h),          tau_L = n . tau
-    tau_L^(0)    = C tau_L^(h)    + i B sigma_zz^(h)
+    tau_L^(0)    = C tau_L^(h)    + i B' sigma_zz^(h)      (B' = B at nu = 1/2)
     tau_T^(0)    = tau_T^(h) / cosh K                        tau_T = tau - n tau_L
 
 written as tau^(0) = n tau_L^(0) + (tau^(h) - n tau_L^(h)) / cosh K, which in 1D (n = +1 on the
@@ -35,7 +37,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .transfer import F2, tanh_over, transfer_functions
+from .transfer import (
+    F2,
+    compressible_decay_rate,
+    compressible_tangential_function,
+    compressible_transfer_functions,
+    tanh_over,
+    transfer_functions,
+)
 
 __all__ = ["Film", "DECAY_RATE", "surface_compliance", "base_stresses"]
 
@@ -53,7 +62,7 @@ def _sech(K: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Film:
-    """An incompressible (nu = 1/2) elastic film bonded to a rigid base.
+    """An elastic film bonded to a rigid base (incompressible, nu = 1/2, by default).
 
     Parameters
     ----------
@@ -61,16 +70,45 @@ class Film:
         h, in the unit of the wavenumbers' lengths (1 in the dimensionless core, where lengths
         are in h; metres where wavenumbers are in 1/m).
 
-    The film's parameters live here (its thickness now; Poisson ratio and interface laws are
-    the natural additions), so that every symbol of the package comes from one place.
+    poisson : float
+        nu, Poisson ratio, in [0, 1/2] (default 1/2: incompressible).  For nu < 1/2 the symbols
+        are those of the compressible film (physics3d.md; ``transfer.compressible_transfer_
+        functions``), still in units of the shear modulus G = E / (2(1 + nu)): H below is the
+        sinking per pressure times G.  Then H(k = 0) = (1 - 2nu) h / (2(1 - nu)) (a uniform
+        pressure p sinks the film by h (1 - 2nu) p / (2G (1 - nu)): uniaxial strain), and the
+        friction couples into the sinking even on a half-space (Dundurs).  nu = 1/2 takes the
+        incompressible code path unchanged (bit-identical symbols).
+
+    The film's parameters live here (its thickness and Poisson ratio; interface laws are the
+    natural additions), so that every symbol of the package comes from one place.
     """
 
     thickness: float = 1.0
+    poisson: float = 0.5
+
+    def __post_init__(self):
+        from .scene import check_poisson
+
+        object.__setattr__(self, "poisson", check_poisson(self.poisson))
+
+    @property
+    def incompressible(self) -> bool:
+        return self.poisson == 0.5
 
     @property
     def decay_rate(self) -> float:
-        """Slowest decay rate of the film's kernels in real space [1/length]."""
-        return DECAY_RATE / self.thickness
+        """Slowest decay rate of the film's kernels in real space [1/length] (0.7391/h at
+        nu = 1/2, 0.9128/h at nu = 0.3: ``transfer.compressible_decay_rate``)."""
+        if self.incompressible:
+            return DECAY_RATE / self.thickness
+        return compressible_decay_rate(self.poisson) / self.thickness
+
+    @property
+    def uniform_compliance(self) -> float:
+        """H(k = 0) = (1 - 2nu) h / (2(1 - nu)) [length, per G]: the sinking under a uniform
+        pressure (0 for the incompressible film)."""
+        nu = self.poisson
+        return (1.0 - 2.0 * nu) * self.thickness / (2.0 * (1.0 - nu))
 
     def domain_margin(self, tol: float) -> float:
         """Length [same unit as h] beyond the contact over which the kernels decay to
@@ -78,15 +116,39 @@ class Film:
         return math.log(100.0 / tol) / self.decay_rate
 
     def surface_compliance(self, direction, kmag, mu: float = 0.0, slide=(1.0, 0.0)):
-        """H(k) = [F0 + i mu (e . n) F1] / (2|k|) (0 at k = 0), e = ``slide`` (unit vector,
+        """H(k) = [F0 + i mu (e . n) F1] / (2|k|) (at k = 0: ``uniform_compliance``, 0 at
+        nu = 1/2), e = ``slide`` (unit vector,
         the sliding direction: the friction drags the surface along +e for mu > 0)."""
         kmag = np.asarray(kmag, dtype=float)
         K = kmag * self.thickness
-        F0, F1, *_ = transfer_functions(K)
+        if self.incompressible:
+            F0, F1, *_ = transfer_functions(K)
+        else:
+            F0, F1, *_ = compressible_transfer_functions(K, self.poisson)
         e_n = sum(e * n for e, n in zip(slide, direction))
         safe = np.where(kmag > 0, kmag, 1.0)
         H = (F0 + 1j * mu * e_n * F1) / (2.0 * safe)
-        return np.where(kmag > 0, H, 0.0)
+        return np.where(kmag > 0, H, 0.0 if self.incompressible else self.uniform_compliance)
+
+    def shear_compliance(self, direction, kmag, slide=(1.0, 0.0)):
+        """The sinking per unit surface shear along e = ``slide``: i (e . n) F1 / (2|k|), 0 at
+        k = 0, so that w^ = surface_compliance(mu = 0) p^ + shear_compliance q^ for any shear
+        field q along e (Amontons: q = mu p gives back ``surface_compliance(mu)``)."""
+        kmag = np.asarray(kmag, dtype=float)
+        K = kmag * self.thickness
+        if self.incompressible:
+            _, F1, *_ = transfer_functions(K)
+        else:
+            _, F1, *_ = compressible_transfer_functions(K, self.poisson)
+        e_n = sum(e * n for e, n in zip(slide, direction))
+        safe = np.where(kmag > 0, kmag, 1.0)
+        return np.where(kmag > 0, 1j * e_n * F1 / (2.0 * safe), 0.0)
+
+    def shear_compliance_symbol(self, slide=(1.0, 0.0)):
+        """``shear_compliance`` as a symbol function (direction, kmag) -> H1."""
+        def symbol(direction, kmag):
+            return self.shear_compliance(direction, kmag, slide)
+        return symbol
 
     def compliance_symbol(self, mu: float = 0.0, slide=(1.0, 0.0)):
         """The surface compliance as a symbol function (direction, kmag) -> H, for
@@ -102,11 +164,15 @@ class Film:
         shear components (sigma_xz, [sigma_yz]) at z = h, one per surface dimension (0 allowed).
         Returns (sigma_zz^(x, 0), tuple of the base shear spectra)."""
         K = np.asarray(kmag, dtype=float) * self.thickness
-        _, _, A, B, C = transfer_functions(K)
-        iB = 1j * B
+        if self.incompressible:
+            _, _, A, B, C = transfer_functions(K)
+            iB = iBp = 1j * B
+        else:  # the two couplings differ when nu < 1/2
+            _, _, A, B, Bp, C = compressible_transfer_functions(K, self.poisson)
+            iB, iBp = 1j * B, 1j * Bp
         tau_L = sum(n * t for n, t in zip(direction, tau_hat))
         szz0 = A * szz_hat + iB * tau_L
-        tau_L0 = C * tau_L + iB * szz_hat
+        tau_L0 = C * tau_L + iBp * szz_hat
         T = _sech(K)
         return szz0, tuple(n * tau_L0 + T * (t - n * tau_L) for n, t in zip(direction, tau_hat))
 
@@ -119,18 +185,26 @@ class Film:
 
         p_hat : pressure spectrum (p = -sigma_zz(h) >= 0 in compression); tau_hat : tuple of
         the surface shear spectra (sigma_xz, [sigma_yz]).  Returns (tuple of u_x^, [u_y^],
-        delta^).  At k = 0: delta^ = 0 (incompressible) and u^ = h tau^ (uniform shear of
-        the bonded layer).  Units as ``surface_compliance`` (in the core: h^2/2R per G h/2R)."""
+        delta^).  At k = 0: delta^ = 0 (incompressible; ``uniform_compliance`` p^ for
+        nu < 1/2) and u^ = h tau^ (uniform shear of the bonded layer).  Units as
+        ``surface_compliance`` (in the core: h^2/2R per G h/2R)."""
         kmag = np.asarray(kmag, dtype=float)
         h = self.thickness
         K = kmag * h
-        F0, F1, *_ = transfer_functions(K)
+        if self.incompressible:
+            F0, F1, *_ = transfer_functions(K)
+            F2_ = F2(K)
+        else:  # compressible (nu < 1/2): its F0, F1, F2; the anti-plane part is the same
+            F0, F1, *_ = compressible_transfer_functions(K, self.poisson)
+            F2_ = compressible_tangential_function(K, self.poisson)
         pos = kmag > 0
         inv2k = np.where(pos, 0.5 / np.where(pos, kmag, 1.0), 0.0)
         tau_L = sum(n * t for n, t in zip(direction, tau_hat))
         delta = (F0 * p_hat + 1j * F1 * tau_L) * inv2k
+        if not self.incompressible:  # a uniform pressure sinks a compressible film
+            delta = delta + np.where(pos, 0.0, self.uniform_compliance) * p_hat
         # F2 / (2|k|) -> h and tanh(K)/|k| -> h as k -> 0
-        cL = np.where(pos, F2(K) * inv2k, h)
+        cL = np.where(pos, F2_ * inv2k, h)
         u_L = cL * tau_L - 1j * F1 * inv2k * p_hat
         cT = h * tanh_over(K)
         u = tuple(n * u_L + cT * (t - n * tau_L) for n, t in zip(direction, tau_hat))

@@ -4,10 +4,14 @@ Dimensionless core (the paper's, section "Exact model"):
 
 * lengths in h (film thickness),
 * displacements in h^2 / (2R),
-* stresses in E h / (6R)  (= G h / (2R), G = E/3 the shear modulus of the incompressible film),
-* lineic load P = P_L * 6R / (E h^2).
+* stresses in G h / (2R), G the film's shear modulus: G = E/3 for the incompressible film
+  (nu = 1/2, the paper's E h / (6R)), G = E / (2(1 + nu)) in general,
+* lineic load P = P_L * 2R / (G h^2) (= P_L 6R / (E h^2) at nu = 1/2).
 
-In these units the indenter profile is x^2 and the Hertz half-space pressure is 4 sqrt(a^2 - x^2).
+In these units the indenter profile is x^2 and the Hertz half-space pressure is 4 sqrt(a^2 - x^2)
+at nu = 1/2 (2/(1 - nu) sqrt(a^2 - x^2) in general, E* = 2G/(1 - nu)).  Keeping G (not E) in the
+unit keeps the film's symbols free of nu at nu = 1/2 and O(1) for every nu: the compressible
+film of the same E is stiffer in shear by 3/(2(1 + nu)) and its stress unit follows.
 """
 from __future__ import annotations
 
@@ -17,8 +21,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from .friction import FrictionLaw
 
-__all__ = ["Scene", "Scene3D", "INDENTERS_3D", "PAPER_SCENE", "check_finite", "check_positive", "check_tol"]
+__all__ = ["Scene", "Scene3D", "INDENTERS_3D", "PAPER_SCENE", "check_finite", "check_positive",
+           "check_tol", "check_poisson"]
 
 
 def check_finite(name: str, value, accepted: str) -> float:
@@ -38,6 +44,14 @@ def check_positive(name: str, value, unit: str) -> float:
     return v
 
 
+def check_poisson(nu) -> float:
+    """A Poisson ratio in [0, 0.5] (0.5: incompressible)."""
+    v = check_finite("poisson (nu)", nu, "in [0, 0.5]")
+    if not 0.0 <= v <= 0.5:
+        raise InputError(f"poisson (nu) must be in [0, 0.5]; got {v}")
+    return v
+
+
 def check_tol(tol) -> float:
     """A relative accuracy target: a number in (0, 0.1)."""
     try:
@@ -51,7 +65,8 @@ def check_tol(tol) -> float:
 
 @dataclass(frozen=True)
 class Scene:
-    """A rigid cylinder sliding on an incompressible elastic film bonded to a rigid base.
+    """A rigid cylinder sliding on an elastic film (incompressible by default) bonded to a rigid
+    base.
 
     Parameters (SI)
     ---------------
@@ -62,11 +77,31 @@ class Scene:
         toward +x and drags the film surface toward +x (sigma_xz(x, h) = mu * p(x)); mu < 0 means
         sliding toward -x.
     young : float
-        E, Young's modulus of the film [Pa] (Poisson ratio 1/2: incompressible).
+        E, Young's modulus of the film [Pa].
     radius : float
         R, cylinder radius [m].
     thickness : float
         h, film thickness [m].
+    poisson : float
+        nu, the film's Poisson ratio, in [0, 0.5] (default 0.5: incompressible, the paper's
+        assumption).  The shear modulus is G = E / (2(1 + nu)).
+    friction_law : str
+        "amontons" (default: q = mu p), "power" (q = mu (p/p_ref)^(-n) p) or "linear"
+        (q = tau_0 + alpha p in the contact); ``physics.friction.FrictionLaw``.
+    friction_exponent, friction_pref : float, optional
+        n in [0, 1) and p_ref [Pa] > 0 of the power law (mu above is its mu_d).
+    shear_strength, shear_slope : float, optional
+        tau_0 [Pa] and alpha of the linear law (same sign; mu is then not used by the contact).
+    interface_compliance : float
+        C [m/Pa] >= 0, a linear compliance of the film-indenter interface (a rough or soft
+        skin): the interface closes by C p, so the contact condition is f - d + w + C p = 0
+        where p > 0 (default 0: rigid interface, the paper's).
+    interface_law : str
+        "linear" (default: ``interface_compliance``) or "exponential": the interface carries
+        p = p0 exp(-g / lambda) at an interface gap g (the classical rough-contact form), with
+    interface_pressure, interface_length : float, optional
+        p0 [Pa] > 0 and lambda [m] > 0 of the exponential law (required by it, refused
+        otherwise).  The exponential law has no sharp contact edges.
     """
 
     load: float = 200.0
@@ -74,8 +109,31 @@ class Scene:
     young: float = 2.2e6
     radius: float = 0.130
     thickness: float = 0.002
+    poisson: float = 0.5
+    friction_law: str = "amontons"
+    friction_exponent: float | None = None
+    friction_pref: float | None = None
+    shear_strength: float | None = None
+    shear_slope: float | None = None
+    interface_compliance: float = 0.0
+    interface_law: str = "linear"
+    interface_pressure: float | None = None
+    interface_length: float | None = None
 
     def __post_init__(self):
+        c = check_finite("interface compliance (C)", self.interface_compliance, ">= 0 m/Pa")
+        if c < 0.0:
+            raise InputError(f"interface compliance (C) must be >= 0 m/Pa; got {c}")
+        object.__setattr__(self, "interface_compliance", c)
+        object.__setattr__(self, "poisson", check_poisson(self.poisson))
+        law = self.friction  # validates the law's parameters: one-line InputError
+        if law.law == "linear" and law.shear_strength != 0.0 and self.poisson != 0.5:
+            # measured: the outer iteration settles on coarse grids but not under refinement
+            # (the edge nodes keep flipping at 131072 points, nu = 0.45): a compressible film's
+            # sinking kinks under the shear step tau_0 at the edge (its shear kernel ~ sgn x)
+            raise InputError("shear strength (tau_0) != 0 needs poisson 0.5: with the shear step at "
+                             "the contact edge the friction-law iteration does not settle on a "
+                             f"compressible film; got poisson {self.poisson:g}")
         object.__setattr__(self, "young", check_positive("young (E)", self.young, "Pa"))
         object.__setattr__(self, "radius", check_positive("radius (R)", self.radius, "m"))
         object.__setattr__(self, "thickness", check_positive("thickness (h)", self.thickness, "m"))
@@ -84,6 +142,47 @@ class Scene:
             raise InputError(f"load (P_L) must be >= 0 N/m; got {load}")
         object.__setattr__(self, "load", load)
         object.__setattr__(self, "mu", check_finite("mu (mu_d)", self.mu, "any finite real"))
+        self._check_interface_law()
+
+    def _check_interface_law(self):
+        law = self.interface_law
+        if law not in ("linear", "exponential"):
+            raise InputError(f"interface law must be linear or exponential; got {law!r}")
+        if law == "linear":
+            for name, opt in (("interface_pressure", "--interface-pressure"),
+                              ("interface_length", "--interface-length")):
+                if getattr(self, name) is not None:
+                    raise InputError(f"{opt} ({name}) applies to interface law exponential only")
+            return
+        for name, opt, unit in (("interface_pressure", "--interface-pressure", "Pa"),
+                                ("interface_length", "--interface-length", "m")):
+            v = getattr(self, name)
+            if v is None:
+                raise InputError(f"{opt} ({name}) is required by interface law exponential "
+                                 f"(> 0 {unit})")
+            object.__setattr__(self, name, check_positive(f"{opt} ({name})", v, unit))
+        if self.interface_compliance:
+            raise InputError("interface compliance (C) applies to interface law linear only; "
+                             "the law is exponential")
+        if self.friction_law != "amontons":
+            raise InputError(f"interface law exponential takes friction law amontons only; got "
+                             f"{self.friction_law}")
+
+    @property
+    def interface_p0(self) -> float:
+        """p0 of the exponential interface law in the core's stress unit."""
+        return self.interface_pressure / self.stress_unit
+
+    @property
+    def interface_lambda(self) -> float:
+        """lambda of the exponential interface law in the core's displacement unit."""
+        return self.interface_length / self.displacement_unit
+
+    @property
+    def friction(self):
+        """The friction law (``physics.friction.FrictionLaw``, SI)."""
+        return FrictionLaw(self.friction_law, self.friction_exponent, self.friction_pref,
+                           self.shear_strength, self.shear_slope)
 
     # --- units -------------------------------------------------------------------------------
     @property
@@ -97,13 +196,29 @@ class Scene:
         return self.thickness**2 / (2.0 * self.radius)
 
     @property
+    def shear_modulus(self) -> float:
+        """G = E / (2(1 + nu)) [Pa] (E/3 at nu = 1/2)."""
+        if self.poisson == 0.5:
+            return self.young / 3.0
+        return self.young / (2.0 * (1.0 + self.poisson))
+
+    @property
     def stress_unit(self) -> float:
-        """E h / (6R) [Pa]."""
-        return self.young * self.thickness / (6.0 * self.radius)
+        """G h / (2R) [Pa] (written E h / (6R) at nu = 1/2, as before: bit-identical)."""
+        if self.poisson == 0.5:
+            return self.young * self.thickness / (6.0 * self.radius)
+        return self.shear_modulus * self.thickness / (2.0 * self.radius)
+
+    @property
+    def interface(self) -> float:
+        """The interface compliance in the core's units: C x stress unit / displacement unit."""
+        if self.interface_compliance == 0.0:
+            return 0.0
+        return self.interface_compliance * self.stress_unit / self.displacement_unit
 
     @property
     def P(self) -> float:
-        """Dimensionless lineic load P = P_L 6R / (E h^2)."""
+        """Dimensionless lineic load P = P_L 2R / (G h^2) (= P_L 6R / (E h^2) at nu = 1/2)."""
         return self.load / (self.stress_unit * self.length_unit)
 
     def with_(self, **changes) -> Scene:
@@ -147,6 +262,12 @@ class Scene3D:
         For "function": height(x_m, y_m) -> f [m] above the lowest point.
     extent : float, optional
         For "function": a bound of the contact's half-extent [m] (default 2 h).
+    poisson : float
+        nu, the film's Poisson ratio in [0, 0.5] (default 0.5), as ``Scene.poisson``: the
+        stress unit is G h/(2R), G = E/(2(1 + nu)).
+    friction_law, friction_exponent, friction_pref, shear_strength, shear_slope,
+    interface_compliance :
+        As ``Scene`` (issue 14): the friction law q(p) along x, a linear interface compliance.
 
     Dimensionless core: as ``Scene``, and the force P = F 6R / (E h^3) (stresses integrate
     over an area in h^2).
@@ -163,8 +284,25 @@ class Scene3D:
     radius_y: float | None = None
     height: object = None
     extent: float | None = None
+    poisson: float = 0.5
+    friction_law: str = "amontons"
+    friction_exponent: float | None = None
+    friction_pref: float | None = None
+    shear_strength: float | None = None
+    shear_slope: float | None = None
+    interface_compliance: float = 0.0
 
     def __post_init__(self):
+        object.__setattr__(self, "poisson", check_poisson(self.poisson))
+        c = check_finite("interface compliance (C)", self.interface_compliance, ">= 0 m/Pa")
+        if c < 0.0:
+            raise InputError(f"interface compliance (C) must be >= 0 m/Pa; got {c}")
+        object.__setattr__(self, "interface_compliance", c)
+        law = self.friction  # validates the law's parameters: one-line InputError
+        if law.law == "linear" and law.shear_strength != 0.0 and self.poisson != 0.5:
+            raise InputError("shear strength (tau_0) != 0 needs poisson 0.5: with the shear step at "
+                             "the contact edge the friction-law iteration does not settle on a "
+                             f"compressible film; got poisson {self.poisson:g}")
         if self.indenter not in INDENTERS_3D:
             raise InputError(f"indenter must be one of {', '.join(INDENTERS_3D)} (or line in 2D); "
                              f"got {self.indenter!r}")
@@ -192,6 +330,10 @@ class Scene3D:
     length_unit = Scene.length_unit
     displacement_unit = Scene.displacement_unit
     stress_unit = Scene.stress_unit
+    shear_modulus = Scene.shear_modulus
+    friction = Scene.friction
+    interface = Scene.interface
+    interface_law = "linear"  # not a field: the exponential law is for the line indenter only
 
     @property
     def P(self) -> float:

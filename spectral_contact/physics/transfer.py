@@ -15,9 +15,13 @@ F0, F1 give the surface compliance; A, B, C carry surface tractions to the rigid
 """
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
-__all__ = ["transfer_functions", "F0", "F0_minus_1", "F2", "tanh_over"]
+__all__ = ["transfer_functions", "F0", "F0_minus_1", "F2", "tanh_over",
+           "compressible_transfer_functions", "compressible_decay_rate",
+           "compressible_tangential_function"]
 
 _SERIES_MAX = 1.0  # |2k| below which sinh(2k) - 2k is summed as a series
 
@@ -79,6 +83,78 @@ def F0_minus_1(k):
     """F0(k) - 1 without cancellation at large k (decays like -2(1 + 2k + 2k^2) exp(-2k))."""
     k, e2, Dp = _scaled(k)
     return -2.0 * e2 * (e2 + 1.0 + 2.0 * k + 2.0 * k * k) / Dp
+
+
+# --- the compressible film (0 <= nu < 1/2; physics3d.md) -------------------------------------
+def compressible_transfer_functions(k, nu: float):
+    """(F0, F1, A, B, Bp, C) of the bonded film of Poisson ratio ``nu`` (0 <= nu < 1/2) at
+    wavenumbers k (units 1/h), in the normalisation of the incompressible ones:
+
+        kappa = 3 - 4 nu,  D = kappa cosh 2k + 2k^2 + (1 + kappa^2)/2,
+        F0 = 2(1 - nu)(kappa sinh 2k - 2k) / D           surface sinking per pressure x 2|k|/G
+        F1 = 2 [k^2 - (1 - 2nu) kappa sinh^2 k] / D       its coupling to the shear, x 2|k|/G
+        A  = 4(1 - nu)[2(1 - nu) cosh k + k sinh k] / D   base sigma_zz per surface sigma_zz
+        B  = 4(1 - nu)[k cosh k + (1 - 2nu) sinh k] / D    base sigma_zz per i sgn(k) surface shear
+        Bp = 4(1 - nu)[k cosh k - (1 - 2nu) sinh k] / D    base shear per i sgn(k) surface sigma_zz
+        C  = 4(1 - nu)[2(1 - nu) cosh k - k sinh k] / D   base shear per surface shear
+
+    At nu = 1/2 they are (F0, F1, A, B, B, C) of ``transfer_functions`` (which the film uses
+    there: this form is for nu < 1/2).  Limits: F0 ~ (1 - 2nu) k / (1 - nu) as k -> 0 (a
+    compressible film sinks under a uniform pressure), F0 -> 2(1 - nu) and
+    F1 -> -(1 - 2nu) as k -> inf (the compressible half-space and its Dundurs coupling).
+    Written with exp(-2k) like the incompressible ones (no overflow, no cancellation at k -> 0:
+    kappa sinh 2k - 2k = (kappa - 1) sinh 2k + (sinh 2k - 2k))."""
+    k = np.minimum(np.abs(np.asarray(k, dtype=float)), 1e100)
+    nu = float(nu)
+    kap = 3.0 - 4.0 * nu
+    e1 = np.exp(-k)
+    e2 = e1 * e1
+    one_m_e2 = -np.expm1(-2.0 * k)          # 1 - exp(-2k)
+    one_m_e4 = -np.expm1(-4.0 * k)          # 1 - exp(-4k)
+    Dp = kap * (1.0 + e2 * e2) + (4.0 * k * k + 1.0 + kap * kap) * e2   # 2 exp(-2k) D
+    F0_ = 2.0 * (1.0 - nu) * ((kap - 1.0) * one_m_e4 + _F0_scaled_numerator(k, e2)) / Dp
+    F1_ = (4.0 * k * k * e2 - (1.0 - 2.0 * nu) * kap * one_m_e2 * one_m_e2) / Dp
+    c = 4.0 * (1.0 - nu) * e1 / Dp
+    cosh_ = 1.0 + e2                         # 2 exp(-k) cosh k
+    sinh_ = one_m_e2                         # 2 exp(-k) sinh k
+    A_ = c * (2.0 * (1.0 - nu) * cosh_ + k * sinh_)
+    B_ = c * (k * cosh_ + (1.0 - 2.0 * nu) * sinh_)
+    Bp_ = c * (k * cosh_ - (1.0 - 2.0 * nu) * sinh_)
+    C_ = c * (2.0 * (1.0 - nu) * cosh_ - k * sinh_)
+    return F0_, F1_, A_, B_, Bp_, C_
+
+
+@lru_cache(maxsize=64)
+def compressible_decay_rate(nu: float) -> float:
+    """Slowest decay rate (in 1/h) of the kernels of a film of Poisson ratio ``nu``: the zero
+    k = i y of D nearest the real axis, kappa cos 2y - 2y^2 + (1 + kappa^2)/2 = 0, unique on
+    (0, pi/2) where the left side decreases from > 0 to (kappa - 1)^2/2 - pi^2/2 < 0 (kappa <= 3).
+    (The other zeros of D have larger imaginary parts: checked by a complex Newton scan for
+    nu in [0, 1/2].)  0.73909 at nu = 1/2 (cos y = y), 0.91278 at 0.3, 1.18962 at 0."""
+    from scipy.optimize import brentq
+
+    kap = 3.0 - 4.0 * float(nu)
+    return float(brentq(lambda y: kap * np.cos(2.0 * y) - 2.0 * y * y + 0.5 * (1.0 + kap * kap),
+                        0.0, 0.5 * np.pi, xtol=1e-15))
+
+
+def compressible_tangential_function(k, nu: float):
+    """F2 of the film of Poisson ratio ``nu``: the surface's tangential displacement along n per
+    tangential traction along n is F2 / (2 G |k|) (physics3d.md: u_L^ = [F2 q_L - i F1 p^] /
+    (2 G |k|), F1 of ``compressible_transfer_functions``), with
+
+        F2 = 2(1 - nu)(kappa sinh 2k + 2k) / D     ((sinh 2k + 2k)/D at nu = 1/2),
+
+    for the surface displacements of the 3D solver.  Limits: F2 -> 2(1 - nu) as k -> inf (the
+    half-space), F2 / (2|k|) -> 1 (i.e. h/G per unit shear: a uniform shear q displaces the
+    surface by q h / G) as k -> 0."""
+    k = np.minimum(np.abs(np.asarray(k, dtype=float)), 1e100)
+    nu = float(nu)
+    kap = 3.0 - 4.0 * nu
+    e2 = np.exp(-2.0 * k)
+    Dp = kap * (1.0 + e2 * e2) + (4.0 * k * k + 1.0 + kap * kap) * e2   # 2 exp(-2k) D
+    # 2 exp(-2k)(kappa sinh 2k + 2k) = kappa (1 - exp(-4k)) + 4k exp(-2k): no cancellation
+    return 2.0 * (1.0 - nu) * (kap * -np.expm1(-4.0 * k) + 4.0 * k * e2) / Dp
 
 
 def F2(k):

@@ -547,4 +547,14 @@ class AbelMethod(Method):
             raise InputError("domain_length applies to method fft only (method abel needs no domain)")
 
     def solve(self, scene: Scene, model: str) -> ContactResult:
+        if scene.poisson != 0.5:
+            raise InputError(f"method abel is for the incompressible film (poisson 0.5) only; got "
+                             f"poisson {scene.poisson:g}: use method fft")
+        if not scene.friction.is_amontons:
+            raise InputError(f"method abel solves Amontons friction only; got friction law "
+                             f"{scene.friction_law}: use method fft")
+        if scene.interface_compliance != 0.0 or scene.interface_law != "linear":
+            raise InputError("method abel has a rigid interface only (interface compliance 0, "
+                             f"law linear); got {scene.interface_compliance:g} m/Pa, law "
+                             f"{scene.interface_law}: use method fft")
         return solve_abel(scene, self.check_model(model), self.tol, self.grid_points)

@@ -28,8 +28,11 @@ from ..errors import ConvergenceError, InputError
 from ..numerics.contact import solve_contact
 from ..numerics.edges import fit_edges, peak
 from ..numerics.fft import get_rfft, plan_cache_info
+from ..numerics.friction import solve_contact_law
 from ..numerics.grid import Grid, pow2_at_least
+from ..numerics.interface import solve_exponential_contact
 from ..physics.film import Film
+from ..physics.friction import ShearLaw
 from ..physics.indenters import Cylinder
 from ..physics.scene import Scene, Scene3D, check_positive
 from ..result import ContactResult
@@ -59,8 +62,34 @@ def _contact_window(sol):
     return 0.5 * (right - left), 0.5 * (right + left), edges
 
 
+EDGE_FRACTION = 0.01
+"""Exponential interface: the contact window is where p >= EDGE_FRACTION p_max.  As the
+interface stiffens (lambda -> 0) it tends to the rigid window: a square-root edge reaches
+1 % of p_max within ~1e-4 of the half-width."""
+
+
+def _soft_window(sol):
+    """(a, x_c, edges) of a contact without sharp edges (exponential interface): the outermost
+    crossings of p = EDGE_FRACTION p_max around the peak (linear between nodes)."""
+    g = sol.grid
+    p = sol.pressure
+    n = p.size
+    j = int(np.argmax(p))
+    thr = EDGE_FRACTION * p[j]
+    ends = []
+    for side in (+1, -1):
+        i = j
+        while p[(i + side) % n] >= thr and abs(i + side - j) < n - 1:
+            i += side
+        p_in, p_out = p[i % n], p[(i + side) % n]
+        t = (p_in - thr) / (p_in - p_out) if p_in > p_out else 0.5
+        ends.append(g.x[j] + (i - j + side * t) * g.dx)
+    right, left = ends
+    return 0.5 * (right - left), 0.5 * (right + left), [(left, right)]
+
+
 def _measure(sol):
-    a, c, edges = _contact_window(sol)
+    a, c, edges = _soft_window(sol) if getattr(sol, "soft", False) else _contact_window(sol)
     pm, xm = peak(sol.grid.x, sol.pressure)
     return {"a": a, "c": c, "d": float(sol.indentations[0]), "pmax": pm, "xmax": xm,
             "edges": edges}
@@ -108,10 +137,35 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     plans0 = _plans_time()
     P = scene.P
     mu_contact = scene.mu if model == "exact" else 0.0
-    margin = Film().domain_margin(tol)  # images ~ tol/100 x O(1)
+    film = Film(poisson=scene.poisson)  # lengths in h: thickness 1
+    margin = film.domain_margin(tol)  # images ~ tol/100 x O(1)
     # residual (relative displacement / pressure / load) accepted from each contact solve:
     # far below tol, but not below what round-off allows for very wide contacts
     accept = max(1e-8, 1e-2 * tol)
+    # a friction law other than Amontons: an outer fixed point around each contact solve
+    # (numerics.friction), converged to the same relative accuracy as the contact solves
+    law = scene.friction.dimensionless(scene.stress_unit, scene.mu)
+    with_law = model == "exact" and not scene.friction.is_amontons
+    law_iterations = [0]
+    # a compliant interface (linear): the contact operator is H + c (numerics.friction)
+    c = scene.interface
+    # or the exponential law p = p0 exp(-g/lambda): no contact set (numerics.interface)
+    exponential = scene.interface_law == "exponential"
+
+    def contact(grid, p_init=None):
+        if exponential:
+            s_ = solve_exponential_contact(grid, mu_contact, indenter[0], scene.interface_p0,
+                                           scene.interface_lambda, film=film, p_init=p_init,
+                                           rtol=accept)
+            s_.soft = True
+            return s_
+        if not with_law and c == 0.0:
+            return solve_contact(grid, mu_contact, indenter, film=film, p_init=p_init, accept=accept)
+        s_, _, li = solve_contact_law(grid, law if with_law else ShearLaw("amontons", mu=mu_contact),
+                                      indenter, film=film, interface=c, p_init=p_init,
+                                      accept=accept, law_tol=accept)
+        law_iterations[0] += li["law_iterations"]
+        return s_
 
     if P == 0.0:
         L = domain_length or margin
@@ -131,6 +185,12 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     #    (P = 2 pi a^2) and the thin-layer width (w = -p''/3: P = 4 a^5 / 15) bound the film's
     #    half-width from above (studies/stability); the smaller one sizes the first grid.
     a_bound = min(math.sqrt(P / (2 * math.pi)), (3.75 * P) ** 0.2)
+    if not film.incompressible:
+        # compressible: Hertz with E* = 2G/(1 - nu) (P = pi a^2/(1 - nu)); a thin compressible
+        # layer is a Winkler foundation of compliance H(0) (P = 4 a^3 / (3 H(0))), wider than
+        # the incompressible thin layer: the larger of the two thin-layer widths
+        a_bound = min(math.sqrt(P * (1.0 - scene.poisson) / math.pi),
+                      max((3.75 * P) ** 0.2, (0.75 * film.uniform_compliance * P) ** (1.0 / 3.0)))
     L0 = domain_length or (4.0 * a_bound + margin)
     n0 = grid_points // 4 if grid_points else pow2_at_least(L0 / (2 * a_bound / _FIRST_ACROSS), MIN_POINTS)
     n0 = max(MIN_POINTS, n0)
@@ -138,7 +198,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         raise InputError(
             f"the contact (half-width <= {a_bound:.2g} h) is too small for the FFT method's periodic "
             f"grid (~{n0:.1e} points > 2^22): use model hertz or method abel")
-    sol = solve_contact(Grid.centered(n0, L0), mu_contact, indenter, accept=accept)
+    sol = contact(Grid.centered(n0, L0))
     fft_pairs += sol.fft_pairs
     krylov += sol.krylov_iterations
     outer += sol.iterations
@@ -173,10 +233,11 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         else:
             lo, hi = min(e[0] for e in qprev["edges"]), max(e[1] for e in qprev["edges"])
             p_init = np.where((g.x > lo) & (g.x < hi), np.maximum(_refine(prev.pressure), 1e-12), 0.0)
-        cur = solve_contact(g, mu_contact, indenter, p_init=p_init, accept=accept)
-        shifted = solve_contact(Grid.centered(n, L, center + 0.5 * g.dx), mu_contact, indenter,
-                                p_init=0.5 * (cur.pressure + np.roll(cur.pressure, -1)),
-                                accept=accept)
+            if exponential:  # no contact set: the whole refined pressure
+                p_init = _refine(prev.pressure)
+        cur = contact(g, p_init=p_init)
+        shifted = contact(Grid.centered(n, L, center + 0.5 * g.dx),
+                          p_init=0.5 * (cur.pressure + np.roll(cur.pressure, -1)))
         for s_ in (cur, shifted):
             fft_pairs += s_.fft_pairs
             krylov += s_.krylov_iterations
@@ -205,7 +266,12 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
 
     sol, q = cur, qcur
     p = sol.pressure
-    szz, (sxz,) = Film().base_stresses(get_rfft(sol.grid.shape), sol.grid, -p, (scene.mu * p,))
+    if scene.friction.is_amontons:
+        shear = None
+        szz, (sxz,) = film.base_stresses(get_rfft(sol.grid.shape), sol.grid, -p, (scene.mu * p,))
+    else:  # exact: the law's shear of the coupled solve; goodman: the law on the frictionless p
+        shear = sol.shear if with_law else law.shear(p)
+        szz, (sxz,) = film.base_stresses(get_rfft(sol.grid.shape), sol.grid, -p, (shear,))
     fft_pairs += 2
     total = time.perf_counter() - t0
     plan_time = _plans_time() - plans0
@@ -218,7 +284,15 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         "residuals": sol.residuals,
         "edges": q["edges"],
         "domain_margin": margin,
+        "poisson": scene.poisson,
     }
+    if not scene.friction.is_amontons:
+        info["friction_law_iterations"] = law_iterations[0]
+    if c:
+        info["interface_compliance"] = c
+    if exponential:
+        info["width_definition"] = (f"exponential interface: no sharp edges; the contact window "
+                                    f"is where p >= {EDGE_FRACTION:g} p_max")
     return ContactResult(
         scene=scene, model=model, method="fft", x=sol.grid.x, pressure=p,
         base_sigma_zz=szz, base_sigma_xz=sxz, half_width=q["a"], center=q["c"],
@@ -226,7 +300,8 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         grid_points=sol.grid.n, domain_length=sol.grid.length, iterations=sol.iterations,
         residual=residual, error_estimate=est, wall_time_s=total - plan_time,
         plan_time_s=plan_time, info=info,
-        counters={"transforms": fft_pairs, "iterations": outer, "linear_iterations": krylov})
+        counters={"transforms": fft_pairs, "iterations": outer, "linear_iterations": krylov},
+        shear=shear)
 
 
 @register

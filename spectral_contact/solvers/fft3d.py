@@ -40,9 +40,11 @@ import numpy as np
 from ..errors import ConvergenceError, InputError
 from ..numerics.contact import solve_contact
 from ..numerics.fft import get_rfft, plan_cache_info
+from ..numerics.friction import solve_contact_law
 from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.measure2d import measure_contact_2d
 from ..physics.film import Film
+from ..physics.friction import ShearLaw
 from ..physics.scene import Scene3D
 from ..result import ContactResult3D
 
@@ -162,13 +164,25 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     t0 = time.perf_counter()
     plans0 = _plans_time()
     grid_points, domain_length = _check_fixed(grid_points, domain_length)
-    film = Film()
+    film = Film(poisson=scene.poisson)  # issue 14: any nu (nu = 1/2: the incompressible path)
     P = scene.P
     mu_contact = scene.mu if model == "exact" else 0.0
     ind = scene.indenter_object()
     margin = film.domain_margin(tol)
     accept = max(1e-8, 1e-2 * tol)
     counters = {"transforms": 0, "iterations": 0, "linear_iterations": 0}
+    # issue 14: a friction law (outer fixed point) and/or a linear interface (H + c), as in 2D
+    law = scene.friction.dimensionless(scene.stress_unit, scene.mu)
+    with_law = model == "exact" and not scene.friction.is_amontons
+    c = scene.interface
+
+    def contact(grid, p_init=None):
+        if not with_law and c == 0.0:
+            return solve_contact(grid, mu_contact, [ind], film=film, p_init=p_init, accept=accept)
+        s_, _, _ = solve_contact_law(grid, law if with_law else ShearLaw("amontons", mu=mu_contact),
+                                     [ind], film=film, interface=c, p_init=p_init, accept=accept,
+                                     law_tol=accept)
+        return s_
 
     def count(sol):
         counters["transforms"] += sol.fft_pairs
@@ -198,7 +212,7 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     _check_size(n0, "locating the contact")
     if progress:
         progress(f"locating the contact on a {n0[0]} x {n0[1]} grid")
-    sol = count(solve_contact(Grid.centered(n0, L0), mu_contact, [ind], film=film, accept=accept))
+    sol = count(contact(Grid.centered(n0, L0)))
     q = _measure(sol, ind)
 
     # 2. the periods: the contact plus the decay margin, centred on the contact
@@ -228,7 +242,7 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
             p_init = np.where(_refine(prev.pressure) > 0, _refine(prev.pressure), 0.0)
         else:
             p_init = None  # the indenter's own guess
-        cur = count(solve_contact(g, mu_contact, [ind], film=film, p_init=p_init, accept=accept))
+        cur = count(contact(g, p_init=p_init))
         qcur = _measure(cur, ind)
         history.append((shape, qcur))
         if qprev is not None:
@@ -246,7 +260,10 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     sol, q = cur, qcur
     fft = get_rfft(sol.grid.shape)
     p = sol.pressure
-    shear = (scene.mu * p, np.zeros_like(p))
+    if scene.friction.is_amontons:
+        shear = (scene.mu * p, np.zeros_like(p))
+    else:  # exact: the law's shear of the coupled solve; goodman: the law on the frictionless p
+        shear = (sol.shear if with_law else law.shear(p), np.zeros_like(p))
     szz, (sxz, syz) = film.base_stresses(fft, sol.grid, -p, shear)
     (ux, uy), delta = film.surface_displacements(fft, sol.grid, p, shear)
     counters["transforms"] += 5
@@ -269,4 +286,5 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
         base_sigma_xz=sxz, base_sigma_yz=syz, surface_ux=ux, surface_uy=uy, surface_uz=-delta,
         measures=q, grid_points=sol.grid.shape, domain_length=sol.grid.lengths,
         iterations=sol.iterations, residual=sol.residual, error_estimate=est,
-        wall_time_s=total - plan_time, plan_time_s=plan_time, info=info, counters=counters)
+        wall_time_s=total - plan_time, plan_time_s=plan_time, info=info, counters=counters,
+        shear=None if scene.friction.is_amontons else shear[0])

@@ -41,14 +41,39 @@ def solve_scene(scene: Scene, model: str, method: str, tol: float, grid_points=N
             raise InputError("model auto is for a line indenter; use exact, goodman or hertz in 3D")
         solver = make_method(method, tol, grid_points, domain_length)
         if model == "hertz":
+            if scene.poisson != 0.5:
+                raise InputError(f"model hertz is the incompressible half-space (poisson 0.5) only; "
+                                 f"got poisson {scene.poisson:g}: use model exact or goodman")
             return solve_hertz3d(scene, solver.tol, grid_points, domain_length)
         return solver.solve(scene, model)
     solver = make_method(method, tol, grid_points, domain_length)
+    if scene.poisson != 0.5 and model == "hertz":
+        raise InputError(f"model hertz is the incompressible half-space (poisson 0.5) only; got "
+                         f"poisson {scene.poisson:g}: use model exact or goodman")
+    if not scene.friction.is_amontons and model == "hertz":
+        raise InputError(f"model hertz takes Amontons friction only; got friction law "
+                         f"{scene.friction_law}: use model exact or goodman")
+    soft = scene.interface_compliance != 0.0 or scene.interface_law != "linear"
+    if soft and model == "hertz":
+        raise InputError(f"model hertz has a rigid interface only; got interface compliance "
+                         f"{scene.interface_compliance:g} m/Pa, law {scene.interface_law}: use "
+                         "model exact or goodman")
     if model == "hertz":  # closed form, whatever the method
         return solve_hertz(scene, tol=solver.tol, grid_points=grid_points, domain_length=domain_length)
     if model != "auto":
         return solver.solve(scene, model)
     s = hertz_half_width(scene.P)
+    if scene.poisson != 0.5 or not scene.friction.is_amontons or soft:
+        # the bounds were fitted on incompressible films with Amontons friction only
+        why = (f"poisson {scene.poisson:g} < 0.5" if scene.poisson != 0.5 else
+               f"friction law {scene.friction_law}" if not scene.friction.is_amontons else
+               "a compliant interface")
+        r = solver.solve(scene, "exact")
+        r.info.update({"auto": "exact", "auto_reason": f"exact: {why}, outside the validated map "
+                       "(the fitted bounds are for nu = 0.5, Amontons friction and a rigid "
+                       "interface)",
+                       "auto_bounds": {}, "auto_provenance": PROVENANCE})
+        return r
     chosen, reason, bounds = choose_model(s, scene.mu, solver.tol)
     if chosen == "hertz":
         r = solve_hertz(scene, tol=solver.tol, grid_points=grid_points, domain_length=domain_length)

@@ -1,0 +1,150 @@
+"""Friction laws: the surface shear q(x) = sigma_xz(x, h) inside the contact as a function of the
+local pressure p(x) (issue 14).  Outside the contact q = 0.
+
+* ``amontons`` (the paper's):  q = mu_d p.
+* ``power``:   q = mu(p) p with mu(p) = mu_d (p / p_ref)^(-n), 0 <= n < 1 (the local friction
+  coefficient falls with pressure for n > 0, as the paper's Q/P falls with P; q still rises
+  with p and vanishes at the contact edge).  n = 0 is Amontons exactly.
+* ``linear``:  q = tau_0 + alpha p inside the contact (the form reported for PDMS on glass);
+  tau_0 [Pa] and alpha of the same sign (their sign is the sliding direction), so that the shear
+  never reverses.  tau_0 = 0 is Amontons with mu_d = alpha.
+
+Sign: q > 0 drags the film surface toward +x (the cylinder slides toward +x), as mu_d > 0 does.
+SI parameters here; ``FrictionLaw.dimensionless(stress_unit, mu)`` gives the law in the core's
+stress unit (``Scene.stress_unit``), with mu_d the scene's friction coefficient.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["FrictionLaw", "FRICTION_LAWS", "ShearLaw", "AMONTONS"]
+
+FRICTION_LAWS = ("amontons", "power", "linear")
+
+
+def check_finite(name: str, value, accepted: str) -> float:
+    """A finite number (the scene's validator, repeated: physics.scene imports this module)."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a number ({accepted}); got {value!r}") from None
+    if not math.isfinite(v):
+        raise InputError(f"{name} must be finite ({accepted}); got {v}")
+    return v
+
+
+@dataclass(frozen=True)
+class FrictionLaw:
+    """A friction law in SI.
+
+    law : "amontons" | "power" | "linear"
+    exponent : n of the power law, in [0, 1) (power only)
+    pref : p_ref of the power law [Pa], > 0 (power only)
+    shear_strength : tau_0 of the linear law [Pa] (linear only)
+    shear_slope : alpha of the linear law, same sign as tau_0 (linear only)
+
+    Parameters of another law than the chosen one must be left at their defaults (None):
+    ``FrictionLaw("amontons", exponent=0.2)`` is refused (one line naming the option).
+    """
+
+    law: str = "amontons"
+    exponent: float | None = None
+    pref: float | None = None
+    shear_strength: float | None = None
+    shear_slope: float | None = None
+
+    def __post_init__(self):
+        if self.law not in FRICTION_LAWS:
+            raise InputError(f"friction law must be one of {', '.join(FRICTION_LAWS)}; got {self.law!r}")
+        own = {"amontons": (), "power": ("exponent", "pref"),
+               "linear": ("shear_strength", "shear_slope")}[self.law]
+        for name, opt in (("exponent", "--friction-exponent"), ("pref", "--friction-pref"),
+                          ("shear_strength", "--shear-strength"), ("shear_slope", "--shear-slope")):
+            if getattr(self, name) is not None and name not in own:
+                raise InputError(f"{opt} ({name}) applies to friction law "
+                                 f"{'power' if name in ('exponent', 'pref') else 'linear'} only; "
+                                 f"the law is {self.law}")
+        if self.law == "power":
+            n = check_finite("friction exponent (n)", 0.0 if self.exponent is None else self.exponent,
+                             "in [0, 1)")
+            if not 0.0 <= n < 1.0:
+                raise InputError(f"friction exponent (n) must be in [0, 1); got {n}")
+            if self.pref is None:
+                raise InputError("friction pref (p_ref) is required by friction law power (> 0 Pa)")
+            pref = check_finite("friction pref (p_ref)", self.pref, "> 0 Pa")
+            if pref <= 0.0:
+                raise InputError(f"friction pref (p_ref) must be > 0 Pa; got {pref}")
+            object.__setattr__(self, "exponent", n)
+            object.__setattr__(self, "pref", pref)
+        if self.law == "linear":
+            tau0 = check_finite("shear strength (tau_0)", self.shear_strength or 0.0, "a finite stress [Pa]")
+            alpha = check_finite("shear slope (alpha)", self.shear_slope or 0.0, "finite, same sign as tau_0")
+            if tau0 * alpha < 0.0:
+                raise InputError(f"shear strength (tau_0 = {tau0:g} Pa) and shear slope (alpha = {alpha:g}) "
+                                 "must have the same sign (else the shear reverses within the contact)")
+            object.__setattr__(self, "shear_strength", tau0)
+            object.__setattr__(self, "shear_slope", alpha)
+
+    @property
+    def is_amontons(self) -> bool:
+        return self.law == "amontons"
+
+    def dimensionless(self, stress_unit: float, mu: float) -> ShearLaw:
+        """The law in the core's stress unit [Pa] with mu_d = ``mu`` (amontons, power)."""
+        if self.law == "amontons":
+            return ShearLaw("amontons", mu=mu)
+        if self.law == "power":
+            return ShearLaw("power", mu=mu, exponent=self.exponent, pref=self.pref / stress_unit)
+        return ShearLaw("linear", mu=self.shear_slope, tau0=self.shear_strength / stress_unit)
+
+    def describe(self) -> dict:
+        """The law's parameters for the JSON record (SI)."""
+        out = {"friction_law": self.law}
+        if self.law == "power":
+            out |= {"friction_exponent": self.exponent, "friction_pref_Pa": self.pref}
+        if self.law == "linear":
+            out |= {"shear_strength_Pa": self.shear_strength, "shear_slope": self.shear_slope}
+        return out
+
+
+AMONTONS = FrictionLaw()
+
+
+@dataclass(frozen=True)
+class ShearLaw:
+    """A friction law in the core's units: ``shear(p)`` gives q on the grid (0 where p <= 0).
+
+    amontons: q = mu p;  power: q = mu p (p / pref)^(-exponent);  linear: q = tau0 + mu p."""
+
+    law: str
+    mu: float = 0.0
+    exponent: float = 0.0
+    pref: float = 1.0
+    tau0: float = 0.0
+
+    @property
+    def proportional(self) -> bool:
+        """True when q = mu p exactly (Amontons, power with n = 0, linear with tau0 = 0)."""
+        return self.law == "amontons" or (self.law == "power" and self.exponent == 0.0) or (
+            self.law == "linear" and self.tau0 == 0.0)
+
+    def shear(self, p: np.ndarray) -> np.ndarray:
+        p = np.asarray(p, dtype=float)
+        inside = p > 0.0
+        if self.law == "amontons" or self.proportional:
+            return np.where(inside, self.mu * p, 0.0)
+        if self.law == "power":
+            ps = np.where(inside, p, 1.0)
+            return np.where(inside, self.mu * p * (ps / self.pref) ** (-self.exponent), 0.0)
+        return np.where(inside, self.tau0 + self.mu * p, 0.0)
+
+    def slope(self, p: float) -> float:
+        """dq/dp at the pressure p > 0 (the linear part kept implicit by the outer iteration)."""
+        if self.law == "power" and self.exponent != 0.0:
+            return (1.0 - self.exponent) * self.mu * (p / self.pref) ** (-self.exponent)
+        return self.mu
