@@ -110,7 +110,9 @@ def test_decay_rate_is_the_pole_nearest_the_real_axis():
     assert Film().decay_rate == Film(poisson=0.5).decay_rate == 0.7390851332151607
 
 
-# golden values from main at 0ca84a0 (before --poisson), exact model, fft, 512 points, tol 1e-3
+# golden values from main at 0ca84a0 (before --poisson), exact model, fft, 512 points, tol 1e-3;
+# later kernel speed-ups (issue 13: GMRES rotations on floats) move them by round-off only, so
+# they are compared to 1e-12 relative; nu = 0.5 against the default film is bit for bit
 _GOLDEN = [
     (dict(load=200.0, mu=2.0), ("0x1.3ebaabd30c934p+0", "0x1.322797175516ap-1",
                                 "0x1.ac42413d9d9d8p+0", "0x1.e393c369bd823p+8")),
@@ -123,7 +125,7 @@ _GOLDEN = [
 def test_poisson_one_half_is_bit_identical_to_before(kw, gold):
     r = solve(grid_points=512, tol=1e-3, poisson=0.5, **kw)
     got = (r.half_width, r.center, r.indentation, float(np.sum(r.pressure)))
-    assert tuple(float.fromhex(g) for g in gold) == got
+    assert np.allclose(got, [float.fromhex(g) for g in gold], rtol=1e-12, atol=0)
     d = solve(grid_points=512, tol=1e-3, **kw)
     for name in ("pressure", "base_sigma_zz", "base_sigma_xz", "x"):
         np.testing.assert_array_equal(getattr(r, name), getattr(d, name))
