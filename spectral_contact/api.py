@@ -10,11 +10,17 @@ loads the base only), "hertz" (closed form) and "auto" (the cheapest adequate on
 """
 from __future__ import annotations
 
+import dataclasses
+import math
+
+from .errors import InputError
 from .physics.scene import Scene, check_positive, check_tol
 from .result import ContactResult
 from .solvers.registry import METHODS, MODELS, solve_scene
 
 __all__ = ["solve", "METHODS", "MODELS", "check_tol"]
+
+_SCENE_FIELDS = tuple(f.name for f in dataclasses.fields(Scene))
 
 
 def solve(scene: Scene | None = None, *, model: str = "exact", method: str = "fft",
@@ -39,7 +45,7 @@ def solve(scene: Scene | None = None, *, model: str = "exact", method: str = "ff
     tol : float
         Relative accuracy target of a, contact centre, indentation and peak pressure, in (0, 0.1).
     grid_points : int, optional
-        Fix the number of grid points (FFT, 64 ... 2^24) or Nystrom nodes (Abel, 6 ... 2000)
+        Fix the number of grid points (FFT, 64 ... 2^22) or Nystrom nodes (Abel, 6 ... 2000)
         instead of choosing it from ``tol``.
     domain_length : float, optional
         Fix the FFT period [m] instead of choosing it from ``tol`` (FFT only; the Abel method
@@ -57,6 +63,13 @@ def solve(scene: Scene | None = None, *, model: str = "exact", method: str = "ff
     ConvergenceError
         A solver did not converge (carries the residual history).
     """
+    if scene is not None and not isinstance(scene, Scene):
+        raise InputError(f"scene must be a Scene (or omitted, with load=..., mu=... given by "
+                         f"name); got {type(scene).__name__} {scene!r:.40}")
+    unknown = sorted(set(params) - set(_SCENE_FIELDS))
+    if unknown:
+        raise InputError(f"unknown parameter {unknown[0]!r}: solve accepts model, method, tol, "
+                         f"grid_points, domain_length and the scene's {', '.join(_SCENE_FIELDS)}")
     if scene is None:
         scene = Scene(**params)
     elif params:
@@ -64,4 +77,7 @@ def solve(scene: Scene | None = None, *, model: str = "exact", method: str = "ff
     L_h = None
     if domain_length is not None:
         L_h = check_positive("domain_length", domain_length, "m") / scene.length_unit
+        if not math.isfinite(L_h):
+            raise InputError(f"domain_length must be a finite multiple of the film thickness; "
+                             f"got {domain_length:g} m for h = {scene.thickness:g} m")
     return solve_scene(scene, model, method, tol, grid_points, L_h)

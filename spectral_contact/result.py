@@ -18,7 +18,7 @@ JSON_KEYS = (
     "model", "method", "load_N_per_m", "mu", "young_Pa", "radius_m", "thickness_m",
     "half_width_m", "contact_center_m", "x0_m", "indentation_m", "max_pressure_Pa",
     "max_pressure_x_m", "grid_points", "domain_length_m", "iterations", "residual",
-    "error_estimate", "wall_time_s", "plan_time_s",
+    "error_estimate", "tolerance_met", "wall_time_s", "plan_time_s",
 )
 PROFILE_COLUMNS = ("x_m", "pressure_Pa", "surface_shear_Pa", "base_sigma_zz_Pa", "base_sigma_xz_Pa")
 
@@ -63,6 +63,12 @@ class ContactResult:
     wall_time_s: float = 0.0
     plan_time_s: float = 0.0
     info: dict = field(default_factory=dict)
+
+    @property
+    def tolerance_met(self) -> bool:
+        """Whether error_estimate is within the tolerance asked for (False only when the
+        resolution was fixed by the user, ``grid_points``, and is too coarse for ``tol``)."""
+        return bool(self.info.get("tolerance_met", True))
 
     # --- SI views -----------------------------------------------------------------------------
     @property
@@ -129,6 +135,7 @@ class ContactResult:
             "iterations": int(self.iterations),
             "residual": float(self.residual),
             "error_estimate": float(self.error_estimate),
+            "tolerance_met": self.tolerance_met,
             "wall_time_s": float(self.wall_time_s),
             "plan_time_s": float(self.plan_time_s),
         } | ({"auto_reason": self.info["auto_reason"]} if "auto_reason" in self.info else {})

@@ -1,7 +1,9 @@
 """Command line: ``spectral-contact solve|study|...``.
 
-Errors in the input print one line on stderr and exit with status 2; a solver that does not
-converge prints one line and exits with status 3.
+Exit status: 0 success; 2 bad input (one line on stderr naming the option and its accepted
+range, nothing written); 3 no convergence (one line); 130 / 143 interrupted by SIGINT / SIGTERM
+(one line, temporaries removed, nothing written); 1 only for a bug (one line; set
+SPECTRAL_CONTACT_DEBUG=1 for the traceback).  Warnings are printed as one line each.
 """
 from __future__ import annotations
 
@@ -9,6 +11,7 @@ import argparse
 import importlib
 import os
 import sys
+import threading
 
 from ..errors import ConvergenceError, InputError, SpectralContactError
 from ..physics.scene import PAPER_SCENE
@@ -70,30 +73,36 @@ def _summary_text(r) -> str:
 def _cmd_solve(args) -> int:
     from ..api import solve
     from ..physics.scene import Scene
-    from .files import check_plot_path, to_json, write_csv
+    from .files import Outputs, check_outputs, check_plot_path, to_json, write_csv
 
     scene = Scene(load=args.load, mu=args.mu, young=args.young, radius=args.radius,
                   thickness=args.thickness)
-    if args.plot:
+    outputs = check_outputs(**{"--profiles": args.profiles, "--plot": args.plot})
+    if args.plot is not None:
         check_plot_path(args.plot)
     r = solve(scene, model=args.model, method=args.method, tol=args.tol,
               grid_points=args.grid_points, domain_length=args.domain_length)
+    if not r.tolerance_met:
+        print(f"warning: error estimate {r.error_estimate:.1e} > --tol {args.tol:g} at the fixed "
+              f"--grid-points {args.grid_points} (JSON: \"tolerance_met\": false); raise "
+              f"--grid-points or leave it automatic", file=sys.stderr)
     sensor = None
     if args.sensor:
         from ..instruments.sensor import sensor_view
 
         sensor = sensor_view(r, A_zz_mV_per_bar=args.a_zz, A_xz_mV_per_bar=args.a_xz)
-    if args.profiles:
-        cols = r.profiles()
-        if sensor:
-            cols.update({k: sensor[k] for k in ("S_zz_Pa", "S_xz_Pa", "U_zz_mV", "U_xz_mV")})
-        write_csv(args.profiles, cols,
-                  "spectral_contact profiles, apex frame, +x = sliding direction; "
-                  "sigma_zz < 0 in compression (S_zz > 0 in compression)")
-    if args.plot:
-        from .plots import plot_result
+    with Outputs() as outs:
+        if "--profiles" in outputs:
+            cols = r.profiles()
+            if sensor:
+                cols.update({k: sensor[k] for k in ("S_zz_Pa", "S_xz_Pa", "U_zz_mV", "U_xz_mV")})
+            write_csv(outs.path(outputs["--profiles"]), cols,
+                      "spectral_contact profiles, apex frame, +x = sliding direction; "
+                      "sigma_zz < 0 in compression (S_zz > 0 in compression)")
+        if "--plot" in outputs:
+            from .plots import plot_result
 
-        plot_result(r, args.plot, sensor=sensor)
+            plot_result(r, outs.path(outputs["--plot"]), sensor=sensor)
     if args.json:
         print(to_json(r.summary()))
     else:
@@ -101,11 +110,26 @@ def _cmd_solve(args) -> int:
     return 0
 
 
-def _cmd_study(args) -> int:
+def study_names() -> list[str]:
+    """The studies the command line runs: the public modules of ``studies`` with a main()."""
+    import pkgutil
+
     try:
-        mod = importlib.import_module(f"studies.{args.name}")
+        import studies
     except ModuleNotFoundError:
-        raise InputError(f"study: unknown study {args.name!r} (see studies/README.md)") from None
+        return []
+    return sorted(m.name for m in pkgutil.iter_modules(studies.__path__)
+                  if not m.name.startswith("_"))
+
+
+def _cmd_study(args) -> int:
+    names = study_names()
+    if args.name not in names:
+        listed = ", ".join(names) or "(none found: run from the project folder)"
+        raise InputError(f"study: unknown study {args.name!r}; one of {listed}")
+    mod = importlib.import_module(f"studies.{args.name}")
+    if not callable(getattr(mod, "main", None)):
+        raise InputError(f"study: {args.name!r} is not a runnable study (no main)")
     argv = (["--quick"] if args.quick else []) + (["--out", args.out] if args.out else [])
     return int(mod.main(argv) or 0)
 
@@ -145,27 +169,88 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+# the API's parameter names as the options the user typed (messages of InputError)
+_OPTION_NAMES = [
+    (r"load \(P_L\)", "--load (P_L)"), (r"mu \(mu_d\)", "--mu (mu_d)"),
+    (r"young \(E\)", "--young (E)"), (r"radius \(R\)", "--radius (R)"),
+    (r"thickness \(h\)", "--thickness (h)"), (r"domain_length", "--domain-length"),
+    (r"grid_points", "--grid-points"), (r"tol(?= must| \d|,|$)", "--tol"), (r"raise tol", "raise --tol"),
+    (r"method (abel|fft)", r"--method \1"), (r"model (hertz|exact|goodman)", r"--model \1"),
+]
+
+
+def as_options(message: str) -> str:
+    """Rewrite the API's parameter names in ``message`` as command-line options."""
+    import re
+
+    for pat, rep in _OPTION_NAMES:
+        message = re.sub(r"(?<![-\w])" + pat, rep, message)
+    return message
+
+
+class _Terminated(BaseException):
+    """SIGTERM, raised in the main thread so that outputs are cleaned up like on Ctrl-C."""
+
+
+def _on_sigterm(signum, frame):
+    raise _Terminated()
+
+
+def _one_line_warnings(message, category, filename, lineno, file=None, line=None):
+    text = " ".join(str(message).split())
+    print(f"warning: {text}", file=sys.stderr)
+
+
 def main(argv=None) -> int:
+    import signal
+    import warnings
+
+    threading_main = threading.current_thread() is threading.main_thread()
+    if threading_main:
+        old_term = signal.signal(signal.SIGTERM, _on_sigterm)
+    old_show = warnings.showwarning
+    warnings.showwarning = _one_line_warnings
     try:
         args = build_parser().parse_args(argv)
         return args.func(args)
     except InputError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"error: {as_options(_first_line(exc))}", file=sys.stderr)
         return 2
     except ConvergenceError as exc:
-        print(f"not converged: {exc}", file=sys.stderr)
+        print(f"not converged: {as_options(_first_line(exc))}", file=sys.stderr)
         return 3
-    except (OSError, SpectralContactError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
+    except KeyboardInterrupt:
+        print("interrupted (SIGINT): no output written", file=sys.stderr)
+        return 130
+    except _Terminated:
+        print("terminated (SIGTERM): no output written", file=sys.stderr)
+        return 143
+    except OSError as exc:
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return 2
+    except SpectralContactError as exc:
+        print(f"error: {_first_line(exc)}", file=sys.stderr)
         return 2
     except MemoryError:
-        print("error: out of memory: raise --tol or fix a smaller --grid-points", file=sys.stderr)
+        print("error: out of memory: raise --tol or lower --grid-points", file=sys.stderr)
         return 2
     except Exception as exc:  # a bug: still one line (set SPECTRAL_CONTACT_DEBUG=1 for the traceback)
         if os.environ.get("SPECTRAL_CONTACT_DEBUG"):
             raise
-        print(f"internal error ({type(exc).__name__}): {exc}", file=sys.stderr)
+        if type(exc).__name__ == "LinAlgError":  # round-off defeated the linear algebra
+            print(f"not converged: linear algebra failed ({_first_line(exc)})", file=sys.stderr)
+            return 3
+        print(f"internal error ({type(exc).__name__}): {_first_line(exc)}", file=sys.stderr)
         return 1
+    finally:
+        warnings.showwarning = old_show
+        if threading_main:
+            signal.signal(signal.SIGTERM, old_term)
+
+
+def _first_line(exc) -> str:
+    return " ".join(str(exc).split())
 
 
 if __name__ == "__main__":

@@ -41,6 +41,11 @@ _FIRST_ACROSS = 32  # grid points across the contact on the first adaptive level
 _EDGE_ERROR = 0.01  # first level: _EDGE_ERROR / tol points across the contact (the averaged
 #                     edge error has rms ~0.007 dx, max ~0.02 dx: studies/stability)
 _SHIFT_RESIDUAL = 0.25  # averaged phase error <= this fraction of the shift difference (measured)
+# periodic images: relative error of a, x_c, d, p_max ~ amplitude * exp(-DECAY_RATE (L - 2a)).
+# Measured amplitude (against tol 1e-5 solves, L - 2a = 6 ... 12 h): 0.5-0.6 at mu 0, 0.6-1.0 at
+# mu 2, 1.5 at mu 10; bounded by _IMAGE_AMPLITUDE * max(1, |mu|/10)
+_IMAGE_AMPLITUDE = 2.0
+_BYTES_PER_POINT = 400  # peak Python-side memory of a fixed-N solve (tracemalloc, N = 2^14..2^18)
 
 
 def _pow2_at_least(n: float) -> int:
@@ -130,20 +135,40 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     levels = []
 
     # 1. locate the contact on a coarse, generous grid.  Both the Hertz half-space width
-    #    (P = 2 pi a^2) and the thin-layer width (w = -p''/3: P = 4 a^5 / 15) bound the film's
-    #    half-width from above (studies/stability); the smaller one sizes the first grid.
+    #    (P = 2 pi a^2) and the thin-layer width (w = -p''/3: P = 4 a^5 / 15) bound the
+    #    frictionless half-width from above (studies/stability); the smaller one sizes the first
+    #    grid.  Strong friction widens the contact beyond both (a = 29 h against a bound of 10 h
+    #    at P = 2.7e4, mu = 30): a locator whose contact fills its period is redone on a period
+    #    twice as long, with the same spacing.  The locator never uses a user-fixed period.
     a_bound = min(math.sqrt(P / (2 * math.pi)), (3.75 * P) ** 0.2)
-    L0 = domain_length or (4.0 * a_bound + margin)
+    L0 = 4.0 * a_bound + margin
     n0 = grid_points // 4 if grid_points else _pow2_at_least(L0 / (2 * a_bound / _FIRST_ACROSS))
     n0 = max(MIN_POINTS, n0)
-    if n0 > MAX_POINTS:  # say so before allocating anything
-        raise InputError(
-            f"the contact (half-width <= {a_bound:.2g} h) is too small for the FFT method's periodic "
-            f"grid (~{n0:.1e} points > 2^22): use model hertz or method abel")
-    sol = solve_contact(Grid.centered(n0, L0), mu_contact, indenter, accept=accept)
-    fft_pairs += sol.fft_pairs
-    krylov += sol.krylov_iterations
+    while True:
+        if n0 > MAX_POINTS:  # say so before allocating anything
+            raise InputError(
+                f"the contact (half-width ~{a_bound:.2g} h) is too small for the FFT method's "
+                f"periodic grid over {L0:.3g} h (~{n0:.1e} points > 2^22): use model hertz or "
+                f"method abel")
+        sol = solve_contact(Grid.centered(n0, L0), mu_contact, indenter, accept=accept)
+        fft_pairs += sol.fft_pairs
+        krylov += sol.krylov_iterations
+        if not sol.active.all():
+            break
+        L0, n0 = 2.0 * L0, 2 * n0
     q = _measure(sol)
+    image_amplitude = _IMAGE_AMPLITUDE * max(1.0, abs(mu_contact) / 10.0)
+    if domain_length is not None:
+        # a user-fixed period must hold the contact plus the decay length of its images
+        need = 2.0 * q["a"] + math.log(2.0 * image_amplitude / tol) / DECAY_RATE
+        if domain_length < need:
+            raise InputError(
+                f"domain_length {domain_length * scene.length_unit:.4g} m ({domain_length:.4g} h) "
+                f"is too short for this contact at tol "
+                f"{tol:g}: the period must hold the contact (2a = {2 * q['a']:.3g} h) plus "
+                f"{need - 2 * q['a']:.3g} h for its periodic images to decay below tol/2: use at "
+                f"least {need:.4g} h (= {need * scene.length_unit:.4g} m), raise tol, or leave "
+                f"domain_length automatic")
 
     # 2. the period: contact plus the decay margin, centred on the contact
     guard = 4 * sol.grid.dx
@@ -154,11 +179,17 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     else:
         across = max(_FIRST_ACROSS, _EDGE_ERROR / tol)
         n1 = _pow2_at_least(L / (2 * q["a"] / across))
+        if n1 > MAX_POINTS and domain_length is not None:
+            raise InputError(
+                f"domain_length {domain_length:.4g} h needs ~{n1:.1e} grid points to resolve "
+                f"this contact (half-width {q['a']:.2g} h) at tol {tol:g} (> 2^22): shorten "
+                f"domain_length, or leave it automatic")
         if n1 > MAX_POINTS:  # say so before allocating anything
             raise InputError(
                 f"tol {tol:g} needs ~{n1:.1e} grid points for a contact of half-width {q['a']:.2g} h "
                 f"(> {MAX_POINTS} = 2^22): raise tol, or use method abel or model hertz")
-        sizes = [max(MIN_POINTS, n1 // 2), n1]
+        n1 = max(n1, 2 * MIN_POINTS)  # two distinct levels to compare from the start
+        sizes = [n1 // 2, n1]
         while sizes[-1] < MAX_POINTS:
             sizes.append(sizes[-1] * 2)
     prev = qprev = None
@@ -189,8 +220,9 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
             # previous difference, halved as first order predicts, and what is left of the
             # phase error after averaging (a quarter of the shift difference, measured)
             diff = _difference(qcur, qprev)
+            image_error = image_amplitude * math.exp(-DECAY_RATE * max(L - 2.0 * qcur["a"], 0.0))
             est = max(diff, _SHIFT_RESIDUAL * shift_diff,
-                      0.5 * last_diff if last_diff is not None else 0.0)
+                      0.5 * last_diff if last_diff is not None else 0.0) + image_error
             last_diff = diff
             if grid_points or (est <= tol and i >= 2):
                 break
@@ -217,6 +249,8 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         "residuals": sol.residuals,
         "edges": q["edges"],
         "domain_margin": margin,
+        "image_error": image_error,
+        "tolerance_met": bool(est <= tol),
     }
     return ContactResult(
         scene=scene, model=model, method="fft", x=sol.grid.x, pressure=p,
@@ -231,14 +265,19 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
 class FFTMethod(Method):
     """The spectral method: periodic grid, film symbols by FFT, active set + GMRES.
 
-    Options: ``grid_points`` (even, 64 ... 2^24; a power of two is fastest) and
+    Options: ``grid_points`` (even, 64 ... 2^22; a power of two is fastest) and
     ``domain_length`` (the period, in h, > 0), each fixed instead of chosen from ``tol``."""
 
     name = "fft"
 
     def __init__(self, tol: float = 1e-4, grid_points=None, domain_length=None):
         super().__init__(tol)
-        self.grid_points = check_grid_points(grid_points, MIN_POINTS, 2**24, "fft grid points", even=True)
+        n = check_grid_points(grid_points, MIN_POINTS, 2**62, "fft grid points", even=True)
+        if n is not None and n > MAX_POINTS:  # before allocating anything
+            raise InputError(
+                f"grid_points (fft grid points) must be in [{MIN_POINTS}, {MAX_POINTS}] (2^22); "
+                f"{n} would need ~{n * _BYTES_PER_POINT / 1e9:.1f} GB")
+        self.grid_points = n
         if domain_length is not None and not (math.isfinite(domain_length) and domain_length > 0):
             raise InputError(f"domain_length must be > 0; got {domain_length}")
         self.domain_length = domain_length

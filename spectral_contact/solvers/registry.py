@@ -35,13 +35,15 @@ def solve_scene(scene: Scene, model: str, method: str, tol: float, grid_points=N
         raise InputError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
     solver = make_method(method, tol, grid_points, domain_length)
     if model == "hertz":  # closed form, whatever the method
-        return solve_hertz(scene, tol=solver.tol, grid_points=grid_points, domain_length=domain_length)
+        return solve_hertz(scene, tol=solver.tol, grid_points=solver.grid_points,
+                           domain_length=domain_length)
     if model != "auto":
         return solver.solve(scene, model)
     s = hertz_half_width(scene.P)
     chosen, reason, bounds = choose_model(s, scene.mu, solver.tol)
     if chosen == "hertz":
-        r = solve_hertz(scene, tol=solver.tol, grid_points=grid_points, domain_length=domain_length)
+        r = solve_hertz(scene, tol=solver.tol, grid_points=solver.grid_points,
+                        domain_length=domain_length)
     else:
         r = solver.solve(scene, chosen)
     r.info.update({"auto": chosen, "auto_reason": reason, "auto_bounds": bounds,
