@@ -196,9 +196,15 @@ def _on_sigterm(signum, frame):
     raise _Terminated()
 
 
+_WARNINGS: list[str] = []
+
+
 def _one_line_warnings(message, category, filename, lineno, file=None, line=None):
-    text = " ".join(str(message).split())
-    print(f"warning: {text}", file=sys.stderr)
+    """Warnings are kept, one line each, and printed only if the command succeeds (a failing
+    command prints its one error line and nothing else)."""
+    text = "warning: " + " ".join(str(message).split())
+    if text not in _WARNINGS:
+        _WARNINGS.append(text)
 
 
 def main(argv=None) -> int:
@@ -210,9 +216,13 @@ def main(argv=None) -> int:
         old_term = signal.signal(signal.SIGTERM, _on_sigterm)
     old_show = warnings.showwarning
     warnings.showwarning = _one_line_warnings
+    _WARNINGS.clear()
     try:
         args = build_parser().parse_args(argv)
-        return args.func(args)
+        status = args.func(args)
+        for text in _WARNINGS:
+            print(text, file=sys.stderr)
+        return status
     except InputError as exc:
         print(f"error: {as_options(_first_line(exc))}", file=sys.stderr)
         return 2

@@ -6,14 +6,14 @@ exits with status 2).  Every input is read and checked before any file is writte
 """
 from __future__ import annotations
 
-import json
+import argparse
 import math
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
-from .files import check_plot_path
+from .files import Outputs, check_outputs, check_plot_path, to_json
 
 __all__ = ["register", "COMPARE_JSON_KEYS", "CALIBRATE_JSON_KEYS"]
 
@@ -28,25 +28,42 @@ def _positive(name):
         try:
             v = float(text)
         except ValueError:
-            raise InputError(f"{name} must be a number > 0; got {text!r}") from None
+            raise argparse.ArgumentTypeError(f"must be a number > 0; got {text!r}") from None
         if not (math.isfinite(v) and v > 0):
-            raise InputError(f"{name} must be a finite number > 0; got {text!r}")
+            raise argparse.ArgumentTypeError(f"must be a finite number > 0; got {text!r}")
+        return v
+    conv.__name__ = name
+    return conv
+
+
+def _nonnegative(text):
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number >= 0; got {text!r}") from None
+    if not (math.isfinite(v) and v >= 0):
+        raise argparse.ArgumentTypeError(f"must be a finite number >= 0; got {text!r}")
+    return v
+
+
+def _int_in(lo, hi, why=""):
+    def conv(text):
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be an integer in [{lo}, {hi}]; got "
+                                             f"{text!r}") from None
+        if not lo <= v <= hi:
+            raise argparse.ArgumentTypeError(f"must be in [{lo}, {hi}]{why}; got {v}")
         return v
     return conv
 
 
-def _writable(path, what):
-    """Check an output path before doing any work (its directory must exist)."""
-    if path is None:
-        return None
-    p = Path(path)
-    if p.is_dir():
-        raise InputError(f"{what} {path}: is a directory")
-    if not p.parent.exists() and str(p.parent) not in ("", "."):
-        raise InputError(f"{what} {path}: directory {p.parent} does not exist")
-    if what == "--plot":
-        check_plot_path(p)
-    return p
+N_BOOT_MAX = 10_000
+"""Largest --n-boot: each replicate costs one deconvolution; 10^4 replicates pin the 2.5 / 97.5 %
+quantiles of the band to ~0.3 % of its width (binomial sd of a quantile, 1/sqrt(n))."""
+SEED_MAX = 2**63 - 1
+_VALUE_MAX = 1e100  # measured/computed profile values (mV, Pa): squares and sums stay finite
 
 
 def register(subparsers) -> None:
@@ -71,7 +88,7 @@ def register(subparsers) -> None:
                    help="radial G_zz (columns r_m, G or G_per_m2) instead of the paper's")
     p.add_argument("--apparatus-xz", metavar="G.csv", default=None,
                    help="radial G_xz instead of the paper's")
-    p.add_argument("--tol", type=float, default=1e-4, help="solver tolerance (1e-4)")
+    p.add_argument("--tol", type=float, default=1e-4, help="solver tolerance, in [1e-14, 0.1) (1e-4)")
     p.add_argument("--no-fit", action="store_true", help="skip the direct fit of P_L, mu_d")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="FILE.png", help="measured points and both models")
@@ -96,9 +113,13 @@ def register(subparsers) -> None:
     p.add_argument("--method", choices=("ratio", "wiener"), default="wiener",
                    help="ratio: the paper's Fourier ratio with noise floors; wiener: Tikhonov "
                         "with robust GCV (default)")
-    p.add_argument("--noise-sd", type=float, default=None, help="noise sd of U [mV] (estimated)")
-    p.add_argument("--n-boot", type=int, default=40, help="bootstrap realisations (40)")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--noise-sd", type=_nonnegative, default=None,
+                   help="noise sd of U [mV], >= 0 (default: estimated)")
+    p.add_argument("--n-boot", type=_int_in(0, N_BOOT_MAX, " (each replicate costs one "
+                                                         "deconvolution)"), default=40,
+                   help=f"bootstrap realisations, 0 ... {N_BOOT_MAX} (40)")
+    p.add_argument("--seed", type=_int_in(0, SEED_MAX), default=0,
+                   help="seed of the bootstrap's random numbers, >= 0 (0)")
     p.add_argument("--out", metavar="FILE.csv", help="write the radial apparatus function")
     p.add_argument("--plot", metavar="FILE.png", help="A G(r) with its band, and the U fit")
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -122,12 +143,19 @@ def _cmd_compare(args) -> int:
     from ..physics.scene import Scene
 
     tol = check_tol(args.tol)
-    plot = _writable(args.plot, "--plot")
+    outputs = check_outputs(**{"--plot": args.plot})
+    plot = check_plot_path(args.plot) if args.plot is not None else None
     prof = read_measured_profile(args.measured)
     apparatus = _apparatus(args)
     Szz, Sxz = prof.stresses(args.a_zz, args.a_xz)
+    Scene(young=args.young, radius=args.radius, thickness=args.thickness)  # names the option
     P, mu = integral_estimates(prof.x_m, Szz, Sxz)
-    scene = Scene(load=P, mu=mu, young=args.young, radius=args.radius, thickness=args.thickness)
+    try:
+        scene = Scene(load=P, mu=mu, young=args.young, radius=args.radius,
+                      thickness=args.thickness)
+    except InputError as exc:
+        raise InputError(f"{args.measured}: the integral estimates P_L = {P:.4g} N/m, mu_d = "
+                         f"{mu:.4g} are out of range ({exc})") from None
     models = compare_models(prof.x_m, Szz, Sxz, scene, tol=tol, apparatus=apparatus)
     ex, go = models["exact"], models["goodman"]
     fit, fit_note = None, "skipped (--no-fit)" if args.no_fit else "ok"
@@ -152,10 +180,10 @@ def _cmd_compare(args) -> int:
            "fit_note": fit_note, "points": int(prof.x_m.size), "input": prof.kind,
            "young_Pa": args.young, "radius_m": args.radius, "thickness_m": args.thickness}
     if plot is not None:
-        _plot_compare(plot, prof, Szz, Sxz, models, fit, rec)
+        with Outputs() as outs:
+            _plot_compare(outs.path(outputs["--plot"]), prof, Szz, Sxz, models, fit, rec)
     if args.json:
-        print(json.dumps({k: (None if isinstance(v, float) and not math.isfinite(v) else v)
-                          for k, v in rec.items()}, indent=2))
+        print(to_json(rec))
     else:
         mm = 1e3
         lines = [
@@ -231,10 +259,9 @@ def _cmd_calibrate(args) -> int:
     from ..instruments.calibration import calibrate
     from ..instruments.measured_io import read_radial_profile
 
-    out = _writable(args.out, "--out")
-    plot = _writable(args.plot, "--plot")
-    if args.n_boot < 0:
-        raise InputError(f"--n-boot must be >= 0; got {args.n_boot}")
+    outputs = check_outputs(**{"--out": args.out, "--plot": args.plot})
+    out = outputs.get("--out")
+    plot = check_plot_path(args.plot) if args.plot is not None else None
     comp = args.component
     r, U, _ = read_radial_profile(args.measured, (f"U_{comp}_mV",))
     if args.computed:
@@ -253,25 +280,31 @@ def _cmd_calibrate(args) -> int:
                   f"h = {args.thickness:g} m")
     else:
         raise InputError("calibrate: give --computed SIGMA.csv or --punch-load P")
+    for values, where in ((U, args.measured), (S, args.computed or source)):
+        big = float(np.max(np.abs(values))) if np.all(np.isfinite(values)) else math.inf
+        if not big <= _VALUE_MAX:
+            raise InputError(f"calibrate: {where}: values up to {big:.3g} are beyond the range "
+                             f"the deconvolution can square (|value| <= {_VALUE_MAX:g})")
     cal = calibrate(r, U, S, comp, args.method, noise_sd_mV=args.noise_sd, n_boot=args.n_boot,
                     seed=args.seed)
-    if out is not None:
-        from .files import write_csv
+    from .files import write_csv
 
-        write_csv(out, cal.columns(),
-                  f"spectral_contact calibrate: G_{comp} (unit integral over the plane), "
-                  f"method {args.method}\n"
-                  f"A_{comp} = {cal.A_mV_per_bar:.6g} mV/bar (band {cal.A_lo:.6g} .. "
-                  f"{cal.A_hi:.6g}, {cal.info['level']:.0%}, {cal.info['n_boot']} bootstrap "
-                  f"realisations)\nmeasured {args.measured}; computed: {source}")
-    if plot is not None:
-        _plot_calibration(plot, cal, r, U)
+    with Outputs() as outs:
+        if out is not None:
+            write_csv(outs.path(out), cal.columns(),
+                      f"spectral_contact calibrate: G_{comp} (unit integral over the plane), "
+                      f"method {args.method}\n"
+                      f"A_{comp} = {cal.A_mV_per_bar:.6g} mV/bar (band {cal.A_lo:.6g} .. "
+                      f"{cal.A_hi:.6g}, {cal.info['level']:.0%}, {cal.info['n_boot']} bootstrap "
+                      f"realisations)\nmeasured {args.measured}; computed: {source}")
+        if plot is not None:
+            _plot_calibration(outs.path(plot), cal, r, U)
     rec = {"component": comp, "method": args.method, "A_mV_per_bar": cal.A_mV_per_bar,
            "A_lo_mV_per_bar": cal.A_lo, "A_hi_mV_per_bar": cal.A_hi,
            "noise_sd_mV": cal.info["noise_sd_mV"], "points": int(r.size),
            "out": str(out) if out else None}
     if args.json:
-        print(json.dumps(rec, indent=2))
+        print(to_json(rec))
     else:
         print(f"G_{comp} by {args.method}: A_{comp} = {cal.A_mV_per_bar:.5g} mV/bar "
               f"(band {cal.A_lo:.5g} .. {cal.A_hi:.5g}); G(0) = {cal.G[0]:.4g} 1/m^2; "

@@ -121,9 +121,13 @@ class Scene:
                       if getattr(self, n) > 0 else math.inf)
             return f"{_LABEL[far]} = {getattr(self, far):g} {_UNIT[far]}"
 
-        for value, what, names in (
-                (self.displacement_unit, "the displacement unit h^2/(2R) [m]", ("thickness", "radius")),
-                (self.stress_unit, "the stress unit E h/(6R) [Pa]", ("young", "thickness", "radius"))):
+        for prop, what, names in (
+                ("displacement_unit", "the displacement unit h^2/(2R) [m]", ("thickness", "radius")),
+                ("stress_unit", "the stress unit E h/(6R) [Pa]", ("young", "thickness", "radius"))):
+            try:
+                value = getattr(self, prop)
+            except OverflowError:  # float ** raises where * gives inf
+                value = math.inf
             if not (math.isfinite(value) and value > 0.0):
                 raise InputError(f"{blame(names)} is out of range: it makes {what} = {value:g}, "
                                  f"not a finite number > 0")
