@@ -197,6 +197,11 @@ def _on_sigterm(signum, frame):
 
 
 _WARNINGS: list[str] = []
+_MEMORY_HINTS = {
+    "solve": "raise --tol, or lower --grid-points",
+    "compare": "raise --tol, or give a shorter measured profile",
+    "calibrate": "give a shorter or coarser radial profile",
+}
 
 
 def _one_line_warnings(message, category, filename, lineno, file=None, line=None):
@@ -243,7 +248,9 @@ def main(argv=None) -> int:
         print(f"error: {_first_line(exc)}", file=sys.stderr)
         return 2
     except MemoryError:
-        print("error: out of memory: raise --tol or lower --grid-points", file=sys.stderr)
+        hint = _MEMORY_HINTS.get(getattr(locals().get("args"), "command", None),
+                                 "the problem is too large for this machine")
+        print(f"error: out of memory: {hint}", file=sys.stderr)
         return 2
     except Exception as exc:  # a bug: still one line (set SPECTRAL_CONTACT_DEBUG=1 for the traceback)
         if os.environ.get("SPECTRAL_CONTACT_DEBUG"):

@@ -441,6 +441,10 @@ def calibrate(r_m, U_mV, sigma_Pa, component: str = "zz", method: str = "ratio",
             return AGb, Ab
         centre = U  # the ratio's forward fit is not a smoother: perturb the data themselves
     else:
+        if support_m is None and grid.r_max < 8 * grid.dx:
+            raise InputError(f"calibrate: method wiener needs radial profiles reaching r >= 8 dr "
+                             f"(at least 9 rows; G's support is r_max/2 >= 4 dr); got r_max = "
+                             f"{grid.r_max:g} m with dr = {grid.dx:g} m")
         support = 0.5 * grid.r_max if support_m is None else float(support_m)
         if not (grid.dx * 4 <= support <= grid.r_max):
             raise InputError(f"support_m must be within [4 dr, r_max]; got {support}")
