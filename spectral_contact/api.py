@@ -43,12 +43,15 @@ def solve(scene: Scene | None = None, *, model: str = "exact", method: str = "ff
         "fft": spectral solver on a periodic grid (default).  "abel": the paper's Abel/Fredholm
         formulation (an independent check).
     tol : float
-        Relative accuracy target of a, contact centre, indentation and peak pressure, in (0, 0.1).
+        Relative accuracy target of a, contact centre, indentation and peak pressure, in [1e-14, 0.1).
     grid_points : int, optional
         Fix the number of grid points (FFT, 64 ... 2^22) or Nystrom nodes (Abel, 6 ... 2000)
-        instead of choosing it from ``tol``.
+        instead of choosing it from ``tol``; if the error estimate then exceeds ``tol``,
+        ``result.tolerance_met`` is False (the summary's "tolerance_met").
     domain_length : float, optional
-        Fix the FFT period [m] instead of choosing it from ``tol`` (FFT only; the Abel method
+        Fix the FFT period [m] instead of choosing it from ``tol``; its periodic images' error
+        is included in ``error_estimate``, and a period too short for the contact plus the
+        images' decay to tol/2 is refused (InputError naming the minimum) (FFT only; the Abel method
         needs no domain).
 
     Returns

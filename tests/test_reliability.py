@@ -153,6 +153,23 @@ def test_automatic_domain_grows_for_wide_frictional_contacts():
     assert r.center == pytest.approx(10.254260, rel=1e-4)
 
 
+@pytest.mark.parametrize("tol", [1e-3, 1e-2])
+def test_strong_friction_images_are_measured_not_assumed(tol):
+    """mu = 30, a = 29 h: with the period chosen from the kernels' decay alone, tol 1e-3 gave
+    a = 29.415 h (1.5 % off, estimate 2.8e-4).  The images' effect is now measured (period L
+    against 2L) and the period lengthened; the estimate must cover the true error."""
+    r = solve(Scene(load=300855, mu=30), tol=tol)
+    a_ref, c_ref = 28.992191, 10.254260  # Abel, same scene
+    true = max(abs(r.half_width - a_ref), abs(r.center - c_ref)) / a_ref
+    assert true <= r.error_estimate <= tol
+    assert r.info["domain_difference"] <= 0.25 * tol
+
+
+def test_stagnating_refinement_stops_early():
+    with pytest.raises(ConvergenceError, match="stagnates"):
+        solve(Scene(load=300855, mu=-30), tol=3e-2)
+
+
 @pytest.mark.parametrize("argv", [
     ["calibrate", "--measured", "rad.csv", "--punch-load", "0.1", "--seed", "-1"],
     ["calibrate", "--measured", "rad.csv", "--punch-load", "1e308"],

@@ -143,7 +143,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_scene_options(p)
     p.add_argument("--model", choices=("exact", "goodman", "hertz", "auto"), default="exact")
     p.add_argument("--method", choices=("fft", "abel"), default="fft")
-    p.add_argument("--tol", type=float, default=1e-4, help="relative accuracy target, in (0, 0.1) (default 1e-4)")
+    p.add_argument("--tol", type=float, default=1e-4, help="relative accuracy target, in [1e-14, 0.1) (default 1e-4)")
     p.add_argument("--grid-points", type=int, default=None, help="fix N instead of choosing it from --tol")
     p.add_argument("--domain-length", type=float, default=None, help="fix the FFT period L [m]")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI units)")

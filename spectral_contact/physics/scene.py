@@ -81,7 +81,7 @@ class Scene:
     load : float
         P_L, normal load per unit length of cylinder [N/m], >= 0 (0 means no contact).
     mu : float
-        mu_d, dynamic (Amontons) friction coefficient, signed: mu > 0 means the cylinder slides
+        mu_d, dynamic (Amontons) friction coefficient, in [-MU_MAX, MU_MAX], signed: mu > 0 means the cylinder slides
         toward +x and drags the film surface toward +x (sigma_xz(x, h) = mu * p(x)); mu < 0 means
         sliding toward -x.
     young : float
@@ -90,6 +90,10 @@ class Scene:
         R, cylinder radius [m].
     thickness : float
         h, film thickness [m].
+
+    The derived units (h^2/2R, E h/6R) must be finite and > 0, and the Hertz half-width
+    sqrt(P / 2 pi) at most A_OVER_H_MAX film thicknesses; else InputError names the parameter
+    farthest (in decades) from the paper's value.
     """
 
     load: float = 200.0

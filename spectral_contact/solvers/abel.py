@@ -362,7 +362,7 @@ def solve_abel(scene: Scene, model: str = "exact", tol: float = 1e-4, n_nodes: i
     scene : Scene
     model : {"exact", "goodman"}
         "goodman": the frictionless window and pressure, friction only loads the base.
-    tol : float in (0, 0.1)
+    tol : float in [1e-14, 0.1)
         Relative accuracy target of a, contact centre (relative to a), indentation and peak
         pressure; the node count is increased until the change against a smaller node count is
         below it (unless ``n_nodes`` is given).
