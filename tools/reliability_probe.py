@@ -5,6 +5,7 @@
 Each case: argv, the accepted exit codes, and checks applied to every run: one stderr line on a
 non-zero exit, no traceback, no NaN/Infinity in stdout, no file left behind on a non-zero exit,
 no timeout (60 s).  Prints one line per failing case and the tallies.  Runs in a scratch folder.
+``--src DIR`` runs another checkout (e.g. ``git archive de44ce0 | tar -x -C DIR``: "before").
 """
 from __future__ import annotations
 
@@ -18,6 +19,7 @@ import tempfile
 from pathlib import Path
 
 S = "solve"
+SRC = None  # --src: PYTHONPATH of the package under test
 MEAS = "meas.csv"  # a small measured profile written by _fixtures
 RAD = "rad.csv"
 
@@ -75,6 +77,51 @@ CASES = [
     (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--out", "G.csv", "--plot",
       "/proc/x.png"], {2}, "calibrate plot fails after csv"),
     (["calibrate", "--measured", "fifo.csv", "--punch-load", "0.1"], {2}, "calibrate FIFO"),
+    # --- more of the same classes ---
+    ([S, "--load", "0", "--json"], {0}, "no load"),
+    ([S, "--load", "nan"], {2}, "nan"), ([S, "--load", "inf"], {2}, "inf"),
+    ([S, "--mu", "nan"], {2}, "nan mu"), ([S, "--mu", "1001"], {2}, "mu beyond 1e3"),
+    ([S, "--mu", "-1000", "--tol", "1e-2"], {0, 3}, "mu -1e3"),
+    ([S, "--tol", "0"], {2}, "tol 0"), ([S, "--tol", "0.1"], {2}, "tol 0.1"),
+    ([S, "--tol", "-1"], {2}, "tol < 0"), ([S, "--tol", "1e-14"], {2, 3}, "tol at the floor"),
+    ([S, "--grid-points", "0"], {2}, "N 0"), ([S, "--grid-points", "-64"], {2}, "N < 0"),
+    ([S, "--grid-points", "65"], {2}, "odd N"), ([S, "--grid-points", "1e3"], {2}, "N as float"),
+    ([S, "--domain-length", "0"], {2}, "L 0"), ([S, "--domain-length", "-1"], {2}, "L < 0"),
+    ([S, "--domain-length", "nan"], {2}, "L nan"),
+    ([S, "--domain-length", "0.03"], {2}, "L below the minimum at tol 1e-4"),
+    ([S, "--domain-length", "0.04", "--json"], {0}, "L above the minimum"),
+    ([S, "--method", "abel", "--domain-length", "0.05"], {2}, "abel with L"),
+    ([S, "--method", "abel", "--grid-points", "5"], {2}, "abel nodes"),
+    ([S, "--method", "abel", "--grid-points", "3000"], {2}, "abel nodes"),
+    ([S, "--model", "hertz", "--load", "1e-12", "--json"], {0}, "hertz tiny load"),
+    ([S, "--model", "auto", "--mu", "1000", "--tol", "1e-2"], {0, 3}, "auto huge mu"),
+    ([S, "--mu", "30", "--load", "300855", "--tol", "1e-3", "--json"], {0, 3}, "strong friction"),
+    ([S, "--mu", "100", "--load", "300855", "--tol", "1e-3"], {0, 3}, "stronger friction"),
+    ([S, "--plot", "x.txt"], {2}, "plot format"), ([S, "--plot", "nodir/x.png"], {2}, "plot dir"),
+    ([S, "--profiles", "/proc/x.csv"], {2}, "unwritable dir"), ([S, "--profiles", "."], {2}, "dir"),
+    ([S, "--json", "--sensor", "--profiles", "s.csv"], {0}, "sensor"),
+    ([S, "--sensor", "--a-zz", "nan", "--profiles", "s.csv"], {2}, "sensor gain nan"),
+    ([S, "--sensor", "--a-zz", "0", "--profiles", "s.csv"], {2}, "sensor gain 0"),
+    ([S, "--model", "foo"], {2}, "model"), ([S, "--bogus"], {2}, "option"), (["nosuch"], {2}, "cmd"),
+    (["study", "nosuch"], {2}, "study"), (["study", ""], {2}, "study ''"),
+    (["study", "../tests"], {2}, "study path"),
+    (["compare", "missing.csv"], {2}, "missing"), (["compare", "empty.csv"], {2}, "empty"),
+    (["compare", "header.csv"], {2}, "header only"), (["compare", "nonuni.csv"], {2}, "non-uniform"),
+    (["compare", "."], {2}, "directory"), (["compare", MEAS, "--tol", "0.5"], {2}, "tol"),
+    (["compare", MEAS, "--a-zz", "0"], {2}, "gain"),
+    (["compare", MEAS, "--apparatus-zz", "fifo.csv"], {2}, "apparatus FIFO"),
+    (["compare", MEAS, "--plot", "c.csv"], {2}, "plot format"),
+    (["compare", "u.csv", "--no-fit", "--json"], {0}, "U file"),
+    (["calibrate", "--measured", "missing.csv", "--punch-load", "0.1"], {2}, "missing"),
+    (["calibrate", "--measured", RAD, "--computed", "missing.csv"], {2}, "missing computed"),
+    (["calibrate", "--measured", RAD], {2}, "no source"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--punch-radius", "0"], {2}, "radius"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--method", "foo"], {2}, "method"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--component", "yy"], {2}, "comp"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--noise-sd", "-1"], {2}, "sd"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--n-boot", "0", "--json"], {0}, "0"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--out", "."], {2}, "out dir"),
+    (["calibrate", "--measured", "rad8.csv", "--punch-load", "0.1"], {2}, "short profile"),
 ]
 
 
@@ -97,6 +144,14 @@ def _fixtures(d: Path):
     U = 5.0 * np.exp(-0.5 * (rr / 0.6e-3) ** 2)
     (d / RAD).write_text("r_m,U_zz_mV\n" + "\n".join(f"{a:.17g},{b:.17g}" for a, b in zip(rr, U)) + "\n")
     os.mkfifo(d / "fifo.csv")
+    (d / "empty.csv").write_text("")
+    (d / "header.csv").write_text("x_m,S_zz_Pa,S_xz_Pa\n")
+    xs = np.r_[np.arange(10) * 1e-3, 0.0105]
+    (d / "nonuni.csv").write_text("x_m,S_zz_Pa,S_xz_Pa\n" + "\n".join(f"{a:.6g},1,1" for a in xs))
+    (d / "u.csv").write_text("x_m,U_zz_mV,U_xz_mV\n" + "\n".join(
+        f"{a:.17g},{b * 19e-5:.17g},{c * 7.95e-5:.17g}" for a, b, c in zip(x, zz, xz)) + "\n")
+    r8 = rr[:8]
+    (d / "rad8.csv").write_text("r_m,U_zz_mV\n" + "\n".join(f"{a:.17g},1" for a in r8) + "\n")
 
 
 def _run(case, root: Path):
@@ -106,8 +161,9 @@ def _run(case, root: Path):
         os.symlink(f, d / f.name)
     before = set(os.listdir(d))
     try:
+        env = dict(os.environ, **({"PYTHONPATH": SRC} if SRC else {}))
         p = subprocess.run([sys.executable, "-m", "spectral_contact.cli.main", *argv], cwd=d,
-                           capture_output=True, text=True, timeout=60)
+                           capture_output=True, text=True, timeout=60, env=env)
     except subprocess.TimeoutExpired:
         return case, ["timeout (60 s)"], None
     problems = []
@@ -138,7 +194,11 @@ def main(argv=None) -> int:
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("-v", action="store_true", help="print every case's outcome")
     ap.add_argument("-k", default="", help="only cases whose command line contains this")
+    ap.add_argument("--src", default=None,
+                    help="run another checkout of the package (e.g. an exported older commit)")
     args = ap.parse_args(argv)
+    global SRC
+    SRC = str(Path(args.src).resolve()) if args.src else None
     cases = [c for c in CASES if args.k in " ".join(c[0])]
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(tmp)
