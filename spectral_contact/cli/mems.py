@@ -154,8 +154,9 @@ def _cmd_compare(args) -> int:
         scene = Scene(load=P, mu=mu, young=args.young, radius=args.radius,
                       thickness=args.thickness)
     except InputError as exc:
+        why = str(exc).replace("load (P_L)", "P_L").replace("mu (mu_d)", "mu_d")
         raise InputError(f"{args.measured}: the integral estimates P_L = {P:.4g} N/m, mu_d = "
-                         f"{mu:.4g} are out of range ({exc})") from None
+                         f"{mu:.4g} are out of range ({why})") from None
     models = compare_models(prof.x_m, Szz, Sxz, scene, tol=tol, apparatus=apparatus)
     ex, go = models["exact"], models["goodman"]
     fit, fit_note = None, "skipped (--no-fit)" if args.no_fit else "ok"
