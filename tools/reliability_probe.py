@@ -122,6 +122,8 @@ CASES = [
     (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--n-boot", "0", "--json"], {0}, "0"),
     (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--out", "."], {2}, "out dir"),
     (["calibrate", "--measured", "rad8.csv", "--punch-load", "0.1"], {2}, "short profile"),
+    (["calibrate", "--measured", "radbig.csv", "--punch-load", "0.1"], {2}, "cells of 1e300"),
+    (["calibrate", "--measured", RAD, "--computed", "radbig.csv"], {2}, "computed 1e300"),
 ]
 
 
@@ -150,6 +152,8 @@ def _fixtures(d: Path):
     (d / "nonuni.csv").write_text("x_m,S_zz_Pa,S_xz_Pa\n" + "\n".join(f"{a:.6g},1,1" for a in xs))
     (d / "u.csv").write_text("x_m,U_zz_mV,U_xz_mV\n" + "\n".join(
         f"{a:.17g},{b * 19e-5:.17g},{c * 7.95e-5:.17g}" for a, b, c in zip(x, zz, xz)) + "\n")
+    (d / "radbig.csv").write_text("r_m,U_zz_mV,S_zz_Pa\n" + "\n".join(
+        f"{a:.17g},{b * 1e300:.17g},{b * 1e300:.17g}" for a, b in zip(rr, U)) + "\n")
     r8 = rr[:8]
     (d / "rad8.csv").write_text("r_m,U_zz_mV\n" + "\n".join(f"{a:.17g},1" for a in r8) + "\n")
 
