@@ -124,6 +124,12 @@ CASES = [
     (["calibrate", "--measured", "rad8.csv", "--punch-load", "0.1"], {2}, "short profile"),
     (["calibrate", "--measured", "radbig.csv", "--punch-load", "0.1"], {2}, "cells of 1e300"),
     (["calibrate", "--measured", RAD, "--computed", "radbig.csv"], {2}, "computed 1e300"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--thickness", "1e308"], {2}, "h"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--thickness", "0.02"], {2},
+     "plane grid of 19 GB"),
+    (["calibrate", "--measured", RAD, "--punch-load", "1e-308"], {2}, "tiny load"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--punch-radius", "1e300"], {2},
+     "punch wider than the scan"),
 ]
 
 

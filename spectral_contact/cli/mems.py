@@ -64,6 +64,8 @@ N_BOOT_MAX = 10_000
 quantiles of the band to ~0.3 % of its width (binomial sd of a quantile, 1/sqrt(n))."""
 SEED_MAX = 2**63 - 1
 _VALUE_MAX = 1e100  # measured/computed profile values (mV, Pa): squares and sums stay finite
+_PLANE_MAX = 4096  # side of the punch's plane grid: ~117 bytes per point (tracemalloc), ~2 GB
+_PLANE_BYTES = 117
 
 
 def register(subparsers) -> None:
@@ -273,6 +275,21 @@ def _cmd_calibrate(args) -> int:
     elif args.punch_load:
         from ..instruments.axisym import flat_punch_base_stresses
 
+        dr, r_max, h = float(r[1] - r[0]), float(r[-1]), args.thickness
+        if args.punch_radius >= r_max:
+            raise InputError(f"calibrate: --punch-radius {args.punch_radius:g} m must be below the "
+                             f"scan's reach r_max = {r_max:g} m ({args.measured}): the scan must "
+                             f"cross the punch's edge")
+        # the plane grid the film's base stresses are computed on (instruments/axisym.py:
+        # period 2 (r_max + 16 h), step dr), before allocating it
+        n = 2.0 * (r_max + 16.0 * h) / dr
+        if not n <= _PLANE_MAX:
+            gb = n * n * _PLANE_BYTES / 1e9 if math.isfinite(n) else math.inf
+            blame = (f"--thickness {h:g} m" if 16.0 * h > r_max else
+                     f"{args.measured} (step dr = {dr:g} m over r_max = {r_max:g} m)")
+            raise InputError(f"calibrate: {blame} needs a plane grid of {n:.3g}^2 points "
+                             f"(~{gb:.3g} GB): at most {_PLANE_MAX}^2; the film thickness "
+                             f"must be <= {(_PLANE_MAX * dr / 2 - r_max) / 16:.3g} m for this step")
         b = flat_punch_base_stresses(args.punch_load, args.punch_radius, args.thickness,
                                      dx_m=float(r[1] - r[0]), r_max_m=float(r[-1]))
         S = -b["sigma_zz_Pa"] if comp == "zz" else b["sigma_xz_Pa"]
@@ -283,9 +300,10 @@ def _cmd_calibrate(args) -> int:
         raise InputError("calibrate: give --computed SIGMA.csv or --punch-load P")
     for values, where in ((U, args.measured), (S, args.computed or source)):
         big = float(np.max(np.abs(values))) if np.all(np.isfinite(values)) else math.inf
-        if not big <= _VALUE_MAX:
+        if not 1.0 / _VALUE_MAX <= big <= _VALUE_MAX:
             raise InputError(f"calibrate: {where}: values up to {big:.3g} are beyond the range "
-                             f"the deconvolution can square (|value| <= {_VALUE_MAX:g})")
+                             f"the deconvolution can square (largest |value| in "
+                             f"[{1 / _VALUE_MAX:g}, {_VALUE_MAX:g}])")
     cal = calibrate(r, U, S, comp, args.method, noise_sd_mV=args.noise_sd, n_boot=args.n_boot,
                     seed=args.seed)
     from .files import write_csv
