@@ -179,13 +179,26 @@ _OPTION_NAMES = [
 ]
 
 
-def as_options(message: str) -> str:
-    """Rewrite the API's parameter names in ``message`` as command-line options."""
+def as_options(message: str, options=None) -> str:
+    """Rewrite the API's parameter names in ``message`` as command-line options (only those in
+    ``options``, the command's option strings, when given)."""
     import re
 
     for pat, rep in _OPTION_NAMES:
+        if options is not None and re.search(r"--[\w-]+", rep).group() not in options:
+            continue
         message = re.sub(r"(?<![-\w])" + pat, rep, message)
     return message
+
+
+def _options_of(parser, argv) -> set | None:
+    """The option strings of the subcommand in ``argv`` (None if it cannot be told)."""
+    try:
+        sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+        cmd = next((x for x in (sys.argv[1:] if argv is None else argv) if x in sub.choices), None)
+        return set(sub.choices[cmd]._option_string_actions) if cmd else None
+    except (StopIteration, AttributeError):
+        return None
 
 
 class _Terminated(BaseException):
@@ -222,17 +235,20 @@ def main(argv=None) -> int:
     old_show = warnings.showwarning
     warnings.showwarning = _one_line_warnings
     _WARNINGS.clear()
+    options = None
     try:
-        args = build_parser().parse_args(argv)
+        parser = build_parser()
+        options = _options_of(parser, argv)
+        args = parser.parse_args(argv)
         status = args.func(args)
         for text in _WARNINGS:
             print(text, file=sys.stderr)
         return status
     except InputError as exc:
-        print(f"error: {as_options(_first_line(exc))}", file=sys.stderr)
+        print(f"error: {as_options(_first_line(exc), options)}", file=sys.stderr)
         return 2
     except ConvergenceError as exc:
-        print(f"not converged: {as_options(_first_line(exc))}", file=sys.stderr)
+        print(f"not converged: {as_options(_first_line(exc), options)}", file=sys.stderr)
         return 3
     except KeyboardInterrupt:
         print("interrupted (SIGINT): no output written", file=sys.stderr)

@@ -159,7 +159,11 @@ def _cmd_compare(args) -> int:
         why = str(exc).replace("load (P_L)", "P_L").replace("mu (mu_d)", "mu_d")
         raise InputError(f"{args.measured}: the integral estimates P_L = {P:.4g} N/m, mu_d = "
                          f"{mu:.4g} are out of range ({why})") from None
-    models = compare_models(prof.x_m, Szz, Sxz, scene, tol=tol, apparatus=apparatus)
+    try:
+        models = compare_models(prof.x_m, Szz, Sxz, scene, tol=tol, apparatus=apparatus)
+    except InputError as exc:
+        raise InputError(f"{args.measured}: with the integral estimates P_L = {P:.4g} N/m, "
+                         f"mu_d = {mu:.4g}: {exc}") from None
     ex, go = models["exact"], models["goodman"]
     fit, fit_note = None, "skipped (--no-fit)" if args.no_fit else "ok"
     if not args.no_fit:

@@ -117,13 +117,17 @@ class Scene:
         object.__setattr__(self, "load", load + 0.0)
         self._check_scales()
 
+    def extreme_parameter(self, names=("load", "young", "thickness", "radius")) -> str:
+        """"name = value unit" of the parameter among ``names`` farthest (in decades) from the
+        paper's value: the one to name when a derived quantity is out of range."""
+        far = max(names, key=lambda n: abs(math.log10(getattr(self, n) / _TYPICAL[n]))
+                  if getattr(self, n) > 0 else math.inf)
+        return f"{_LABEL[far]} = {getattr(self, far):g} {_UNIT[far]}"
+
     def _check_scales(self):
         """Every derived scale finite and > 0, and the contact within the solvers' range; the
         message names the parameter farthest (in decades) from the paper's value."""
-        def blame(names):
-            far = max(names, key=lambda n: abs(math.log10(getattr(self, n) / _TYPICAL[n]))
-                      if getattr(self, n) > 0 else math.inf)
-            return f"{_LABEL[far]} = {getattr(self, far):g} {_UNIT[far]}"
+        blame = self.extreme_parameter
 
         for prop, what, names in (
                 ("displacement_unit", "the displacement unit h^2/(2R) [m]", ("thickness", "radius")),

@@ -181,8 +181,8 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     while True:
         if n0 > MAX_POINTS:  # say so before allocating anything
             raise InputError(
-                f"the contact under load (P_L) = {scene.load:g} N/m (half-width ~{a_bound:.2g} h) "
-                f"is too small for the FFT method's "
+                f"the contact of this scene ({scene.extreme_parameter()}: half-width "
+                f"~{a_bound:.2g} h) is too small for the FFT method's "
                 f"periodic grid over {L0:.3g} h (~{n0:.1e} points > 2^22): use model hertz or "
                 f"method abel")
         sol = solve_contact(Grid.centered(n0, L0), mu_contact, indenter, accept=accept)
