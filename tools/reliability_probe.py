@@ -130,6 +130,10 @@ CASES = [
     (["calibrate", "--measured", RAD, "--punch-load", "1e-308"], {2}, "tiny load"),
     (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--punch-radius", "1e300"], {2},
      "punch wider than the scan"),
+    (["compare", "mtiny.csv", "--no-fit"], {2}, "x in steps of 1e-303 m"),
+    (["compare", MEAS, "--radius", "1e-300", "--no-fit"], {2}, "compare tiny R"),
+    (["compare", MEAS, "--tol", "1e-308", "--no-fit"], {2}, "compare tiny tol"),
+    (["compare", MEAS, "--apparatus-zz", "missing.csv"], {2}, "apparatus missing"),
 ]
 
 
@@ -153,6 +157,8 @@ def _fixtures(d: Path):
     (d / RAD).write_text("r_m,U_zz_mV\n" + "\n".join(f"{a:.17g},{b:.17g}" for a, b in zip(rr, U)) + "\n")
     os.mkfifo(d / "fifo.csv")
     (d / "empty.csv").write_text("")
+    (d / "mtiny.csv").write_text("x_m,S_zz_Pa,S_xz_Pa\n" + "\n".join(
+        f"{a * 1e-300:.17g},{b:.17g},{c:.17g}" for a, b, c in zip(x, zz, xz)) + "\n")
     (d / "header.csv").write_text("x_m,S_zz_Pa,S_xz_Pa\n")
     xs = np.r_[np.arange(10) * 1e-3, 0.0105]
     (d / "nonuni.csv").write_text("x_m,S_zz_Pa,S_xz_Pa\n" + "\n".join(f"{a:.6g},1,1" for a in xs))
