@@ -364,3 +364,15 @@ def test_bad_wisdom_file_is_ignored_with_one_warning(content, tmp_path, monkeypa
         assert fftmod.load_wisdom() is False
     assert len(caught) == 1 and "not FFTW wisdom" in str(caught[0].message)
     assert solve(tol=1e-3).half_width > 0  # solves still work
+
+
+def test_out_of_memory_hint_names_the_commands_own_options(tmp_path, capsys, monkeypatch):
+    _radial_csv(tmp_path / "rad.csv")
+
+    def oom(*a, **k):
+        raise MemoryError()
+
+    monkeypatch.setattr("spectral_contact.instruments.calibration.calibrate", oom)
+    _, err = run(["calibrate", "--measured", "rad.csv", "--punch-load", "0.1"], tmp_path, capsys,
+                 monkeypatch, 2)
+    assert "out of memory" in err and "--grid-points" not in err and "--tol" not in err

@@ -235,11 +235,12 @@ def main(argv=None) -> int:
     old_show = warnings.showwarning
     warnings.showwarning = _one_line_warnings
     _WARNINGS.clear()
-    options = None
+    options = command = None
     try:
         parser = build_parser()
         options = _options_of(parser, argv)
         args = parser.parse_args(argv)
+        command = args.command
         status = args.func(args)
         for text in _WARNINGS:
             print(text, file=sys.stderr)
@@ -264,8 +265,7 @@ def main(argv=None) -> int:
         print(f"error: {_first_line(exc)}", file=sys.stderr)
         return 2
     except MemoryError:
-        hint = _MEMORY_HINTS.get(getattr(locals().get("args"), "command", None),
-                                 "the problem is too large for this machine")
+        hint = _MEMORY_HINTS.get(command, "the problem is too large for this machine")
         print(f"error: out of memory: {hint}", file=sys.stderr)
         return 2
     except Exception as exc:  # a bug: still one line (set SPECTRAL_CONTACT_DEBUG=1 for the traceback)
