@@ -68,6 +68,11 @@ def check_outputs(**paths) -> dict:
     return out
 
 
+COMMITTED: list[Path] = []
+"""Targets renamed into place by Outputs.commit in this process (the command line clears it per
+command, to say truthfully whether an interrupted command wrote anything)."""
+
+
 class Outputs:
     """All-or-nothing output files.
 
@@ -105,6 +110,7 @@ class Outputs:
         try:
             for tmp, target in self._pending:
                 os.replace(tmp, target)
+                COMMITTED.append(target)
             self._pending = []
         finally:
             if main:

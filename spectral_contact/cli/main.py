@@ -15,6 +15,7 @@ import threading
 
 from ..errors import ConvergenceError, InputError, SpectralContactError
 from ..physics.scene import PAPER_SCENE
+from . import files as _files
 
 __all__ = ["main", "build_parser"]
 
@@ -235,6 +236,7 @@ def main(argv=None) -> int:
     old_show = warnings.showwarning
     warnings.showwarning = _one_line_warnings
     _WARNINGS.clear()
+    _files.COMMITTED.clear()
     options = command = None
     try:
         parser = build_parser()
@@ -252,10 +254,10 @@ def main(argv=None) -> int:
         print(f"not converged: {as_options(_first_line(exc), options)}", file=sys.stderr)
         return 3
     except KeyboardInterrupt:
-        print("interrupted (SIGINT): no output written", file=sys.stderr)
+        print(f"interrupted (SIGINT): {_written()}", file=sys.stderr)
         return 130
     except _Terminated:
-        print("terminated (SIGTERM): no output written", file=sys.stderr)
+        print(f"terminated (SIGTERM): {_written()}", file=sys.stderr)
         return 143
     except OSError as exc:
         where = f"{exc.filename}: " if exc.filename else ""
@@ -280,6 +282,14 @@ def main(argv=None) -> int:
         warnings.showwarning = old_show
         if threading_main:
             signal.signal(signal.SIGTERM, old_term)
+
+
+def _written() -> str:
+    """What an interrupted command leaves: nothing, or outputs completed before the signal."""
+    done = _files.COMMITTED
+    if not done:
+        return "no output written"
+    return "outputs were complete before the signal and kept: " + ", ".join(map(str, done))
 
 
 def _first_line(exc) -> str:
