@@ -376,3 +376,21 @@ def test_out_of_memory_hint_names_the_commands_own_options(tmp_path, capsys, mon
     _, err = run(["calibrate", "--measured", "rad.csv", "--punch-load", "0.1"], tmp_path, capsys,
                  monkeypatch, 2)
     assert "out of memory" in err and "--grid-points" not in err and "--tol" not in err
+
+
+def test_progress_only_on_a_terminal_and_erased_when_done():
+    import io
+
+    from spectral_contact.cli.mems import _Progress
+
+    class Tty(io.StringIO):
+        def isatty(self):
+            return True
+
+    tty, pipe = Tty(), io.StringIO()
+    for stream in (tty, pipe):
+        p = _Progress("bootstrap", after_s=-1.0, stream=stream)
+        p(1, 3)
+        p(3, 3)
+    assert "bootstrap 1/3" in tty.getvalue() and tty.getvalue().endswith("\r\033[K")
+    assert pipe.getvalue() == ""

@@ -36,6 +36,27 @@ def _positive(name):
     return conv
 
 
+class _Progress:
+    """``what done/total`` on stderr, rewritten in place, only on a terminal and only once the
+    work has taken more than ``after_s``; erased when done (stderr keeps its one-line promise)."""
+
+    def __init__(self, what: str, after_s: float = 2.0, stream=None):
+        import sys
+        import time
+
+        self.what, self.after_s, self.clock = what, after_s, time.monotonic
+        self.t0 = self.clock()
+        self.stream = sys.stderr if stream is None else stream
+
+    def __call__(self, done: int, total: int) -> None:
+        if not (getattr(self.stream, "isatty", lambda: False)()
+                and self.clock() - self.t0 > self.after_s):
+            return
+        text = f"{self.what} {done}/{total}" if done < total else ""
+        self.stream.write(f"\r\033[K{text}")
+        self.stream.flush()
+
+
 def _nonnegative(text):
     try:
         v = float(text)
@@ -309,7 +330,7 @@ def _cmd_calibrate(args) -> int:
                              f"the deconvolution can square (largest |value| in "
                              f"[{1 / _VALUE_MAX:g}, {_VALUE_MAX:g}])")
     cal = calibrate(r, U, S, comp, args.method, noise_sd_mV=args.noise_sd, n_boot=args.n_boot,
-                    seed=args.seed)
+                    seed=args.seed, progress=_Progress("bootstrap"))
     from .files import write_csv
 
     with Outputs() as outs:

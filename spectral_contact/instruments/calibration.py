@@ -405,12 +405,13 @@ def calibrate(r_m, U_mV, sigma_Pa, component: str = "zz", method: str = "ratio",
               relevant: float = 1e-5, fill_zeros: bool = True,
               support_m: float | None = None, n_boot: int = 40,
               level: float = 0.95,
-              seed: int = 0) -> Calibration:
+              seed: int = 0, progress=None) -> Calibration:
     """Deconvolve the radial profiles U_mV(r) = A G (*) sigma_Pa(r); see the module docstring.
 
     r_m : uniform radii from 0 [m], shared by both profiles;  U_mV : measured output [mV];
     sigma_Pa : computed base stress in the sensor convention (compression positive for "zz");
     parameter : "gcv" or "discrepancy" (needs noise_sd_mV), for method="wiener".
+    progress : optional callable(done, total), called after each bootstrap replicate.
     Returns a ``Calibration`` (A in mV/bar).
     """
     if component not in ("zz", "xz"):
@@ -465,8 +466,10 @@ def calibrate(r_m, U_mV, sigma_Pa, component: str = "zz", method: str = "ratio",
         raise InputError("calibrate: the deconvolved apparatus function has zero integral")
     G = AG / A
     Gs, As = [], []
-    for _ in range(int(n_boot)):
+    for i in range(int(n_boot)):
         AGb, Ab = replicate(centre + sd * rng.standard_normal(r.size))
+        if progress is not None:
+            progress(i + 1, int(n_boot))
         if math.isfinite(Ab) and Ab != 0.0:
             Gs.append(AGb / Ab)
             As.append(Ab)
