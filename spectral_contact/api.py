@@ -11,6 +11,7 @@ loads the base only), "hertz" (closed form) and "auto" (the cheapest adequate on
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 
@@ -21,6 +22,9 @@ from .solvers.fft3d import default_tol
 from .solvers.registry import METHODS, MODELS, solve_scene
 
 __all__ = ["solve", "make_scene", "METHODS", "MODELS", "check_tol"]
+
+_SCENE_FIELDS = tuple(f.name for f in dataclasses.fields(Scene))
+_SCENE3D_FIELDS = tuple(f.name for f in dataclasses.fields(Scene3D) if f.name != "indenter")
 
 
 def solve(scene: Scene | Scene3D | None = None, *, model: str = "exact", method: str = "fft",
@@ -54,15 +58,19 @@ def solve(scene: Scene | Scene3D | None = None, *, model: str = "exact", method:
         indenters).  "abel": the paper's Abel/Fredholm formulation (line only: an independent
         check).
     tol : float, optional
-        Relative accuracy target, in (0, 0.1): of a, contact centre, indentation and peak
-        pressure (line; default 1e-4); of the contact radius, x extents, centroid, indentation
-        and peak pressure (3D; default 1e-3: each halving of the cell costs 4x in 2D grids;
-        1e-2 for the finite cylinder, whose sharp ends converge at first order only).
+        Relative accuracy target, in [1e-14, 0.1): of a, contact centre, indentation and peak
+        pressure (line; default 1e-4); of the contact radius, centroid, indentation, line load
+        at y = 0 and peak pressure (3D; default 1e-3: each halving of the cell costs 4x in 2D
+        grids; 1e-2 for the finite cylinder, whose sharp ends converge at first order only).
     grid_points : int or [nx, ny], optional
-        Fix the number of grid points (FFT, 64 ... 2^24; 3D: per axis, >= 32, even) or Nystrom
-        nodes (Abel, 6 ... 2000) instead of choosing it from ``tol``.
+        Fix the number of grid points (FFT, 64 ... 2^22; 3D: per axis, >= 32, even) or Nystrom
+        nodes (Abel, 6 ... 2000) instead of choosing it from ``tol``; if the error estimate then
+        exceeds ``tol``, ``result.tolerance_met`` is False (the summary's "tolerance_met").
     domain_length : float or [Lx, Ly], optional
-        Fix the FFT period [m] instead of choosing it from ``tol`` (FFT only).
+        Fix the FFT period [m] instead of choosing it from ``tol``; its periodic images' error
+        is included in ``error_estimate`` (line), and a period too short for the contact plus
+        the images' decay to tol/2 is refused (InputError naming the minimum) (FFT only; the
+        Abel method needs no domain).
 
     Returns
     -------
@@ -76,6 +84,15 @@ def solve(scene: Scene | Scene3D | None = None, *, model: str = "exact", method:
     ConvergenceError
         A solver did not converge (carries the residual history).
     """
+    if scene is not None and not isinstance(scene, (Scene, Scene3D)):
+        raise InputError(f"scene must be a Scene or Scene3D (or omitted, with load=..., mu=... "
+                         f"given by name); got {type(scene).__name__} {scene!r:.40}")
+    three_d = isinstance(scene, Scene3D) or params.get("indenter", "line") != "line"
+    fields = _SCENE3D_FIELDS if three_d else _SCENE_FIELDS
+    unknown = sorted(set(params) - set(fields) - {"indenter"})
+    if unknown and not (not three_d and set(unknown) <= set(_SCENE3D_FIELDS)):
+        raise InputError(f"unknown parameter {unknown[0]!r}: solve accepts model, method, tol, "
+                         f"grid_points, domain_length, indenter and the scene's {', '.join(fields)}")
     if scene is None:
         scene = make_scene(**params)
     elif params:
@@ -84,10 +101,13 @@ def solve(scene: Scene | Scene3D | None = None, *, model: str = "exact", method:
         tol = default_tol(scene) if isinstance(scene, Scene3D) else 1e-4
     L_h = None
     if domain_length is not None:
-        if np.ndim(domain_length):
-            L_h = [check_positive("domain_length", v, "m") / scene.length_unit for v in domain_length]
-        else:
-            L_h = check_positive("domain_length", domain_length, "m") / scene.length_unit
+        values = domain_length if np.ndim(domain_length) else [domain_length]
+        L_h = [check_positive("domain_length", v, "m") / scene.length_unit for v in values]
+        if not all(math.isfinite(v) for v in L_h):
+            raise InputError(f"domain_length must be a finite multiple of the film thickness; "
+                             f"got {domain_length} m for h = {scene.thickness:g} m")
+        if not np.ndim(domain_length):
+            L_h = L_h[0]
     return solve_scene(scene, model, method, tol, grid_points, L_h)
 
 

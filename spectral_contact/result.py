@@ -26,7 +26,7 @@ JSON_KEYS = (
     "half_width_m", "contact_center_m", "x0_m", "indentation_m", "max_pressure_Pa",
     "max_pressure_x_m", "contact_intervals_m", "friction_law", "Q_over_P",
     "interface_compliance_m_per_Pa", "interface_law", "grid_points", "domain_length_m",
-    "iterations", "residual", "error_estimate", "wall_time_s", "plan_time_s",
+    "iterations", "residual", "error_estimate", "tolerance_met", "wall_time_s", "plan_time_s",
 )
 PROFILE_COLUMNS = ("x_m", "pressure_Pa", "surface_shear_Pa", "base_sigma_zz_Pa", "base_sigma_xz_Pa")
 _SCALARS = ("half_width", "center", "indentation", "max_pressure", "max_pressure_x", "grid_points",
@@ -85,6 +85,12 @@ class ContactResult:
     info: dict = field(default_factory=dict)
     counters: dict = field(default_factory=lambda: dict.fromkeys(COUNTER_KEYS, 0))
     shear: np.ndarray | None = None  # the surface shear q(x) when it is not mu_d p (friction laws)
+
+    @property
+    def tolerance_met(self) -> bool:
+        """Whether error_estimate is within the tolerance asked for (False only when the
+        resolution was fixed by the user, ``grid_points``, and is too coarse for ``tol``)."""
+        return bool(self.info.get("tolerance_met", True))
 
     # --- SI views -----------------------------------------------------------------------------
     @property

@@ -1,7 +1,9 @@
 """Command line: ``spectral-contact solve|study|...``.
 
-Errors in the input print one line on stderr and exit with status 2; a solver that does not
-converge prints one line and exits with status 3.
+Exit status: 0 success; 2 bad input (one line on stderr naming the option and its accepted
+range, nothing written); 3 no convergence (one line); 130 / 143 interrupted by SIGINT / SIGTERM
+(one line, temporaries removed, nothing written); 1 only for a bug (one line; set
+SPECTRAL_CONTACT_DEBUG=1 for the traceback).  Warnings are printed as one line each.
 """
 from __future__ import annotations
 
@@ -10,10 +12,12 @@ import importlib
 import math
 import os
 import sys
+import threading
 
 from ..errors import ConvergenceError, InputError, SpectralContactError
 from ..physics.scene import PAPER_SCENE
 from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR
+from . import files as _files
 
 __all__ = ["main", "build_parser"]
 
@@ -152,7 +156,7 @@ def _apparatus_option(path):
 def _cmd_solve(args) -> int:
     from ..api import solve
     from ..physics.scene import Scene
-    from .files import check_plot_path, json_ready, to_json, write_csv, write_meta_json
+    from .files import Outputs, add_meta, check_outputs, check_plot_path, json_ready, to_json, write_csv
 
     if args.indenter != "line":
         return _cmd_solve3d(args)
@@ -167,7 +171,8 @@ def _cmd_solve(args) -> int:
                   shear_strength=args.shear_strength, shear_slope=args.shear_slope,
                   interface_compliance=args.interface_compliance, interface_law=args.interface_law,
                   interface_pressure=args.interface_pressure, interface_length=args.interface_length)
-    if args.plot:
+    outputs = check_outputs(**{"--profiles": args.profiles, "--plot": args.plot})
+    if args.plot is not None:
         check_plot_path(args.plot)
     apparatus = None
     if args.apparatus_zz or args.apparatus_xz:
@@ -176,26 +181,31 @@ def _cmd_solve(args) -> int:
         apparatus = (_apparatus_option(args.apparatus_zz), _apparatus_option(args.apparatus_xz))
     r = solve(scene, model=args.model, method=args.method, tol=args.tol,
               grid_points=args.grid_points, domain_length=args.domain_length)
+    if not r.tolerance_met:
+        print(f"warning: error estimate {r.error_estimate:.1e} > --tol {args.tol or 1e-4:g} at the "
+              f"fixed --grid-points {args.grid_points} (JSON: \"tolerance_met\": false); raise "
+              f"--grid-points or leave it automatic", file=sys.stderr)
     view = None
     if args.sensor:
         from ..instruments.mems_view import sensor
 
         view = sensor(r, A_zz_mV_per_bar=args.a_zz, A_xz_mV_per_bar=args.a_xz, apparatus=apparatus)
     record = r.to_dict() | (view.to_dict() if view is not None else {})
-    if args.profiles:
-        cols = r.profiles()
-        if view is not None:
-            cols.update({k: v for k, v in view.profiles().items() if k != "x_m"})
-        write_csv(args.profiles, cols)
-        write_meta_json(args.profiles, {
-            "written_by": "spectral-contact solve",
-            "columns": {k: _PROFILE_NOTES[k] for k in cols},
-            "result": record,
-        })
-    if args.plot:
-        from .plots import plot_result
+    with Outputs() as outs:
+        if "--profiles" in outputs:
+            cols = r.profiles()
+            if view is not None:
+                cols.update({k: v for k, v in view.profiles().items() if k != "x_m"})
+            write_csv(outs.path(outputs["--profiles"]), cols)
+            add_meta(outs, outputs["--profiles"], {
+                "written_by": "spectral-contact solve",
+                "columns": {k: _PROFILE_NOTES[k] for k in cols},
+                "result": record,
+            })
+        if "--plot" in outputs:
+            from .plots import plot_result
 
-        plot_result(r, args.plot, sensor=view)
+            plot_result(r, outs.path(outputs["--plot"]), sensor=view)
     if args.json:
         print(to_json(json_ready(record)))  # null, not NaN (no peak at zero load)
     else:
@@ -236,13 +246,11 @@ def _summary_text3d(r) -> str:
 
 
 def _cmd_solve3d(args) -> int:
-    from pathlib import Path
-
     import numpy as np
 
     from ..api import solve
     from ..physics.scene import Scene3D
-    from .files import check_plot_path, to_json, write_csv
+    from .files import Outputs, check_outputs, check_plot_path, to_json, write_csv
 
     if args.load is not None:
         raise InputError(f"--load [N/m] is for the line indenter; --indenter {args.indenter} takes "
@@ -267,10 +275,9 @@ def _cmd_solve3d(args) -> int:
                     friction_pref=args.friction_pref, shear_strength=args.shear_strength,
                     shear_slope=args.shear_slope, interface_compliance=args.interface_compliance,
                     **kw)
-    for path, what in ((args.plot, "--plot"), (args.maps, "--maps"), (args.profiles, "--profiles")):
-        if path is not None and not Path(path).absolute().parent.is_dir():
-            raise InputError(f"{what} {path}: directory {Path(path).parent} does not exist")
-    if args.plot:
+    outputs = check_outputs(**{"--profiles": args.profiles, "--plot": args.plot,
+                               "--maps": args.maps})
+    if args.plot is not None:
         check_plot_path(args.plot)
     r = solve(scene, model=args.model, method="fft", tol=args.tol, grid_points=args.grid_points,
               domain_length=args.domain_length)
@@ -279,21 +286,23 @@ def _cmd_solve3d(args) -> int:
         from ..instruments.sensor import sensor_maps
 
         sensor = sensor_maps(r, A_zz_mV_per_bar=args.a_zz, A_xz_mV_per_bar=args.a_xz)
-    if args.maps:
-        arrays = r.maps()
-        if sensor:
-            arrays.update({k: sensor[k] for k in ("S_zz_Pa", "S_xz_Pa", "S_yz_Pa")})
-        _save_npz(args.maps, arrays)
-    if args.profiles:
-        cols = r.profiles()
-        if sensor:
-            j = int(np.argmin(np.abs(r.y)))
-            cols.update({k: sensor[k][:, j] for k in ("S_zz_Pa", "S_xz_Pa", "U_zz_mV", "U_xz_mV")})
-        write_csv(args.profiles, cols)
-    if args.plot:
-        from .plots import plot_maps
+    with Outputs() as outs:
+        if "--maps" in outputs:
+            arrays = r.maps()
+            if sensor:
+                arrays.update({k: sensor[k] for k in ("S_zz_Pa", "S_xz_Pa", "S_yz_Pa")})
+            with open(outs.path(outputs["--maps"]), "wb") as fh:  # a handle: no ".npz" added
+                np.savez(fh, **arrays)
+        if "--profiles" in outputs:
+            cols = r.profiles()
+            if sensor:
+                j = int(np.argmin(np.abs(r.y)))
+                cols.update({k: sensor[k][:, j] for k in ("S_zz_Pa", "S_xz_Pa", "U_zz_mV", "U_xz_mV")})
+            write_csv(outs.path(outputs["--profiles"]), cols)
+        if "--plot" in outputs:
+            from .plots import plot_maps
 
-        plot_maps(r, args.plot, sensor=sensor)
+            plot_maps(r, outs.path(outputs["--plot"]), sensor=sensor)
     if args.json:
         print(to_json(r.summary()))
     else:
@@ -301,32 +310,26 @@ def _cmd_solve3d(args) -> int:
     return 0
 
 
-def _save_npz(path, arrays: dict) -> None:
-    """Write an .npz whole or not at all (temporary file beside it, then rename)."""
-    import os
-    import tempfile
-    from pathlib import Path
+def study_names() -> list[str]:
+    """The studies the command line runs: the public modules of ``studies`` with a main()."""
+    import pkgutil
 
-    import numpy as np
-
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", prefix=path.name,
-                               suffix=".tmp")
     try:
-        with os.fdopen(fd, "wb") as fh:
-            np.savez(fh, **arrays)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+        import studies
+    except ModuleNotFoundError:
+        return []
+    return sorted(m.name for m in pkgutil.iter_modules(studies.__path__)
+                  if not m.name.startswith("_"))
 
 
 def _cmd_study(args) -> int:
-    try:
-        mod = importlib.import_module(f"studies.{args.name}")
-    except ModuleNotFoundError:
-        raise InputError(f"study: unknown study {args.name!r} (see studies/README.md)") from None
+    names = study_names()
+    if args.name not in names:
+        listed = ", ".join(names) or "(none found: run from the project folder)"
+        raise InputError(f"study: unknown study {args.name!r}; one of {listed}")
+    mod = importlib.import_module(f"studies.{args.name}")
+    if not callable(getattr(mod, "main", None)):
+        raise InputError(f"study: {args.name!r} is not a runnable study (no main)")
     argv = (["--quick"] if args.quick else []) + (["--out", args.out] if args.out else [])
     return int(mod.main(argv) or 0)
 
@@ -427,14 +430,86 @@ def _closed_pipe() -> int:
     return 141
 
 
-def main(argv=None) -> int:
+# the API's parameter names as the options the user typed (messages of InputError)
+_OPTION_NAMES = [
+    (r"load \(P_L\)", "--load (P_L)"), (r"mu \(mu_d\)", "--mu (mu_d)"),
+    (r"young \(E\)", "--young (E)"), (r"radius \(R\)", "--radius (R)"),
+    (r"thickness \(h\)", "--thickness (h)"), (r"domain_length", "--domain-length"),
+    (r"grid_points", "--grid-points"), (r"tol(?= must| \d|,|$)", "--tol"), (r"raise tol", "raise --tol"),
+    (r"method (abel|fft)", r"--method \1"), (r"model (hertz|exact|goodman)", r"--model \1"),
+]
+
+
+def as_options(message: str, options=None) -> str:
+    """Rewrite the API's parameter names in ``message`` as command-line options (only those in
+    ``options``, the command's option strings, when given)."""
+    import re
+
+    for pat, rep in _OPTION_NAMES:
+        if options is not None and re.search(r"--[\w-]+", rep).group() not in options:
+            continue
+        message = re.sub(r"(?<![-\w])" + pat, rep, message)
+    return message
+
+
+def _options_of(parser, argv) -> set | None:
+    """The option strings of the subcommand in ``argv`` (None if it cannot be told)."""
     try:
-        args = build_parser().parse_args(argv)
+        sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+        cmd = next((x for x in (sys.argv[1:] if argv is None else argv) if x in sub.choices), None)
+        return set(sub.choices[cmd]._option_string_actions) if cmd else None
+    except (StopIteration, AttributeError):
+        return None
+
+
+class _Terminated(BaseException):
+    """SIGTERM, raised in the main thread so that outputs are cleaned up like on Ctrl-C."""
+
+
+def _on_sigterm(signum, frame):
+    raise _Terminated()
+
+
+_WARNINGS: list[str] = []
+_MEMORY_HINTS = {
+    "solve": "raise --tol, or lower --grid-points",
+    "compare": "raise --tol, or give a shorter measured profile",
+    "calibrate": "give a shorter or coarser radial profile",
+}
+
+
+def _one_line_warnings(message, category, filename, lineno, file=None, line=None):
+    """Warnings are kept, one line each, and printed only if the command succeeds (a failing
+    command prints its one error line and nothing else)."""
+    text = "warning: " + " ".join(str(message).split())
+    if text not in _WARNINGS:
+        _WARNINGS.append(text)
+
+
+def main(argv=None) -> int:
+    import signal
+    import warnings
+
+    threading_main = threading.current_thread() is threading.main_thread()
+    if threading_main:
+        old_term = signal.signal(signal.SIGTERM, _on_sigterm)
+    old_show = warnings.showwarning
+    warnings.showwarning = _one_line_warnings
+    _WARNINGS.clear()
+    _files.COMMITTED.clear()
+    options = command = None
+    try:
+        parser = build_parser()
+        options = _options_of(parser, argv)
+        args = parser.parse_args(argv)
+        command = args.command
         from .progress import show_progress
 
         # solver steps on stderr once a command passes 2 s (studies print their own progress)
         with show_progress(after=math.inf if args.command == "study" else 2.0):
             status = args.func(args)
+        for text in _WARNINGS:
+            print(text, file=sys.stderr)
         sys.stdout.flush()  # a closed pipe shows here, where it is handled
         return status
     except SystemExit:  # --help, --version: flush now, so that a closed pipe is handled too
@@ -446,22 +521,52 @@ def main(argv=None) -> int:
     except BrokenPipeError:  # the reader went away (`| head`): end quietly
         return _closed_pipe()
     except InputError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"error: {as_options(_first_line(exc), options)}", file=sys.stderr)
         return 2
     except ConvergenceError as exc:
-        print(f"not converged: {exc}", file=sys.stderr)
+        print(f"not converged: {as_options(_first_line(exc), options)}", file=sys.stderr)
         return 3
-    except (OSError, SpectralContactError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
+    except KeyboardInterrupt:
+        print(f"interrupted (SIGINT): {_written()}", file=sys.stderr)
+        return 130
+    except _Terminated:
+        print(f"terminated (SIGTERM): {_written()}", file=sys.stderr)
+        return 143
+    except OSError as exc:
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return 2
+    except SpectralContactError as exc:
+        print(f"error: {_first_line(exc)}", file=sys.stderr)
         return 2
     except MemoryError:
-        print("error: out of memory: raise --tol or fix a smaller --grid-points", file=sys.stderr)
+        hint = _MEMORY_HINTS.get(command, "the problem is too large for this machine")
+        print(f"error: out of memory: {hint}", file=sys.stderr)
         return 2
     except Exception as exc:  # a bug: still one line (set SPECTRAL_CONTACT_DEBUG=1 for the traceback)
         if os.environ.get("SPECTRAL_CONTACT_DEBUG"):
             raise
-        print(f"internal error ({type(exc).__name__}): {exc}", file=sys.stderr)
+        if type(exc).__name__ == "LinAlgError":  # round-off defeated the linear algebra
+            print(f"not converged: linear algebra failed ({_first_line(exc)})", file=sys.stderr)
+            return 3
+        print(f"internal error ({type(exc).__name__}): {_first_line(exc)}", file=sys.stderr)
         return 1
+    finally:
+        warnings.showwarning = old_show
+        if threading_main:
+            signal.signal(signal.SIGTERM, old_term)
+
+
+def _written() -> str:
+    """What an interrupted command leaves: nothing, or outputs completed before the signal."""
+    done = _files.COMMITTED
+    if not done:
+        return "no output written"
+    return "outputs were complete before the signal and kept: " + ", ".join(map(str, done))
+
+
+def _first_line(exc) -> str:
+    return " ".join(str(exc).split())
 
 
 if __name__ == "__main__":

@@ -6,16 +6,15 @@ exits with status 2).  Every input is read and checked before any file is writte
 """
 from __future__ import annotations
 
-import json
+import argparse
 import math
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
-from ..physics.scene import check_positive
 from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR
-from .files import check_plot_path
+from .files import Outputs, add_meta, check_outputs, check_plot_path, to_json
 
 __all__ = ["register", "COMPARE_JSON_KEYS", "CALIBRATE_JSON_KEYS"]
 
@@ -33,23 +32,65 @@ def _positive(name):
         try:
             v = float(text)
         except ValueError:
-            raise InputError(f"{name} must be a number > 0; got {text!r}") from None
-        return check_positive(name, v, "")
+            raise argparse.ArgumentTypeError(f"must be a number > 0; got {text!r}") from None
+        if not (math.isfinite(v) and v > 0):
+            raise argparse.ArgumentTypeError(f"must be a finite number > 0; got {text!r}")
+        return v
+    conv.__name__ = name
     return conv
 
 
-def _writable(path, what):
-    """Check an output path before doing any work (its directory must exist)."""
-    if path is None:
-        return None
-    p = Path(path)
-    if p.is_dir():
-        raise InputError(f"{what} {path}: is a directory")
-    if not p.parent.exists() and str(p.parent) not in ("", "."):
-        raise InputError(f"{what} {path}: directory {p.parent} does not exist")
-    if what == "--plot":
-        check_plot_path(p)
-    return p
+class _Progress:
+    """``what done/total`` on stderr, rewritten in place, only on a terminal and only once the
+    work has taken more than ``after_s``; erased when done (stderr keeps its one-line promise)."""
+
+    def __init__(self, what: str, after_s: float = 2.0, stream=None):
+        import sys
+        import time
+
+        self.what, self.after_s, self.clock = what, after_s, time.monotonic
+        self.t0 = self.clock()
+        self.stream = sys.stderr if stream is None else stream
+
+    def __call__(self, done: int, total: int) -> None:
+        if not (getattr(self.stream, "isatty", lambda: False)()
+                and self.clock() - self.t0 > self.after_s):
+            return
+        text = f"{self.what} {done}/{total}" if done < total else ""
+        self.stream.write(f"\r\033[K{text}")
+        self.stream.flush()
+
+
+def _nonnegative(text):
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number >= 0; got {text!r}") from None
+    if not (math.isfinite(v) and v >= 0):
+        raise argparse.ArgumentTypeError(f"must be a finite number >= 0; got {text!r}")
+    return v
+
+
+def _int_in(lo, hi, why=""):
+    def conv(text):
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be an integer in [{lo}, {hi}]; got "
+                                             f"{text!r}") from None
+        if not lo <= v <= hi:
+            raise argparse.ArgumentTypeError(f"must be in [{lo}, {hi}]{why}; got {v}")
+        return v
+    return conv
+
+
+N_BOOT_MAX = 10_000
+"""Largest --n-boot: each replicate costs one deconvolution; 10^4 replicates pin the 2.5 / 97.5 %
+quantiles of the band to ~0.3 % of its width (binomial sd of a quantile, 1/sqrt(n))."""
+SEED_MAX = 2**63 - 1
+_VALUE_MAX = 1e100  # measured/computed profile values (mV, Pa): squares and sums stay finite
+_PLANE_MAX = 4096  # side of the punch's plane grid: ~117 bytes per point (tracemalloc), ~2 GB
+_PLANE_BYTES = 117
 
 
 def register(subparsers) -> None:
@@ -77,7 +118,7 @@ def register(subparsers) -> None:
                    help="radial G_zz (columns r_m, G or G_per_m2) instead of the paper's")
     p.add_argument("--apparatus-xz", metavar="G.csv", default=None,
                    help="radial G_xz instead of the paper's")
-    p.add_argument("--tol", type=float, default=1e-4, help="solver tolerance (1e-4)")
+    p.add_argument("--tol", type=float, default=1e-4, help="solver tolerance, in [1e-14, 0.1) (1e-4)")
     p.add_argument("--no-fit", action="store_true", help="skip the direct fits of P_L, mu_d")
     p.add_argument("--fit-poisson", action="store_true",
                    help="also fit the exact model with the film's Poisson ratio free (in [0, 0.5]):"
@@ -110,10 +151,13 @@ def register(subparsers) -> None:
     p.add_argument("--method", choices=("ratio", "wiener"), default="wiener",
                    help="ratio: the paper's Fourier ratio with noise floors; wiener: Tikhonov "
                         "with robust GCV (default)")
-    p.add_argument("--noise-sd", type=float, default=None, help="noise sd of U [mV] (estimated)")
-    p.add_argument("--n-boot", type=int, default=40, help="bootstrap realisations (40)")
-    p.add_argument("--seed", type=int, default=0,
-                   help="seed of the bootstrap's random numbers (default 0: reruns agree)")
+    p.add_argument("--noise-sd", type=_nonnegative, default=None,
+                   help="noise sd of U [mV], >= 0 (default: estimated)")
+    p.add_argument("--n-boot", type=_int_in(0, N_BOOT_MAX, " (each replicate costs one "
+                                                         "deconvolution)"), default=40,
+                   help=f"bootstrap realisations, 0 ... {N_BOOT_MAX} (40)")
+    p.add_argument("--seed", type=_int_in(0, SEED_MAX), default=0,
+                   help="seed of the bootstrap's random numbers, >= 0 (0)")
     p.add_argument("--out", metavar="FILE.csv", help="write the radial apparatus function")
     p.add_argument("--plot", metavar="FILE.png", help="A G(r) with its band, and the U fit")
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -138,14 +182,25 @@ def _cmd_compare(args) -> int:
 
     tol = check_tol(args.tol)
     check_poisson(args.poisson)
-    plot = _writable(args.plot, "--plot")
+    outputs = check_outputs(**{"--plot": args.plot})
+    plot = check_plot_path(args.plot) if args.plot is not None else None
     prof = read_measured_profile(args.measured)
     apparatus = _apparatus(args)
     Szz, Sxz = prof.stresses(args.a_zz, args.a_xz)
+    Scene(young=args.young, radius=args.radius, thickness=args.thickness)  # names the option
     P, mu = integral_estimates(prof.x_m, Szz, Sxz)
-    scene = Scene(load=P, mu=mu, young=args.young, radius=args.radius, thickness=args.thickness,
-                  poisson=args.poisson)
-    models = compare_models(prof.x_m, Szz, Sxz, scene, tol=tol, apparatus=apparatus)
+    try:
+        scene = Scene(load=P, mu=mu, young=args.young, radius=args.radius,
+                      thickness=args.thickness, poisson=args.poisson)
+    except InputError as exc:
+        why = str(exc).replace("load (P_L)", "P_L").replace("mu (mu_d)", "mu_d")
+        raise InputError(f"{args.measured}: the integral estimates P_L = {P:.4g} N/m, mu_d = "
+                         f"{mu:.4g} are out of range ({why})") from None
+    try:
+        models = compare_models(prof.x_m, Szz, Sxz, scene, tol=tol, apparatus=apparatus)
+    except InputError as exc:
+        raise InputError(f"{args.measured}: with the integral estimates P_L = {P:.4g} N/m, "
+                         f"mu_d = {mu:.4g}: {exc}") from None
     ex, go = models["exact"], models["goodman"]
     fit, fit_note = None, "skipped (--no-fit)" if args.no_fit else "ok"
     fits = {}
@@ -186,13 +241,11 @@ def _cmd_compare(args) -> int:
                     for name, f in fits.items()},
            "best_model": min(fits, key=lambda k: fits[k]["aic"]) if fits else None}
     if plot is not None:
-        _plot_compare(plot, prof, Szz, Sxz, models, fits, rec, (args.a_zz, args.a_xz))
+        with Outputs() as outs:
+            _plot_compare(outs.path(outputs["--plot"]), prof, Szz, Sxz, models, fits, rec,
+                          (args.a_zz, args.a_xz))
     if args.json:
-        def clean(v):
-            if isinstance(v, dict):
-                return {k: clean(w) for k, w in v.items()}
-            return None if isinstance(v, float) and not math.isfinite(v) else v
-        print(json.dumps(clean(rec), indent=2))
+        print(to_json(rec))  # null, not NaN
     else:
         mm = 1e3
         lines = [
@@ -294,10 +347,9 @@ def _cmd_calibrate(args) -> int:
     from ..instruments.calibration import calibrate
     from ..instruments.measured_io import read_radial_profile
 
-    out = _writable(args.out, "--out")
-    plot = _writable(args.plot, "--plot")
-    if args.n_boot < 0:
-        raise InputError(f"--n-boot must be >= 0; got {args.n_boot}")
+    outputs = check_outputs(**{"--out": args.out, "--plot": args.plot})
+    out = outputs.get("--out")
+    plot = check_plot_path(args.plot) if args.plot is not None else None
     comp = args.component
     r, U, _ = read_radial_profile(args.measured, (f"U_{comp}_mV",))
     if args.computed:
@@ -308,6 +360,21 @@ def _cmd_calibrate(args) -> int:
     elif args.punch_load:
         from ..instruments.axisym import flat_punch_base_stresses
 
+        dr, r_max, h = float(r[1] - r[0]), float(r[-1]), args.thickness
+        if args.punch_radius >= r_max:
+            raise InputError(f"calibrate: --punch-radius {args.punch_radius:g} m must be below the "
+                             f"scan's reach r_max = {r_max:g} m ({args.measured}): the scan must "
+                             f"cross the punch's edge")
+        # the plane grid the film's base stresses are computed on (instruments/axisym.py:
+        # period 2 (r_max + 16 h), step dr), before allocating it
+        n = 2.0 * (r_max + 16.0 * h) / dr
+        if not n <= _PLANE_MAX:
+            gb = n * n * _PLANE_BYTES / 1e9 if math.isfinite(n) else math.inf
+            blame = (f"--thickness {h:g} m" if 16.0 * h > r_max else
+                     f"{args.measured} (step dr = {dr:g} m over r_max = {r_max:g} m)")
+            raise InputError(f"calibrate: {blame} needs a plane grid of {n:.3g}^2 points "
+                             f"(~{gb:.3g} GB): at most {_PLANE_MAX}^2; the film thickness "
+                             f"must be <= {(_PLANE_MAX * dr / 2 - r_max) / 16:.3g} m for this step")
         b = flat_punch_base_stresses(args.punch_load, args.punch_radius, args.thickness,
                                      dx_m=float(r[1] - r[0]), r_max_m=float(r[-1]))
         S = -b["sigma_zz_Pa"] if comp == "zz" else b["sigma_xz_Pa"]
@@ -316,36 +383,43 @@ def _cmd_calibrate(args) -> int:
                   f"h = {args.thickness:g} m")
     else:
         raise InputError("calibrate: give --computed SIGMA.csv or --punch-load P")
+    for values, where in ((U, args.measured), (S, args.computed or source)):
+        big = float(np.max(np.abs(values))) if np.all(np.isfinite(values)) else math.inf
+        if not 1.0 / _VALUE_MAX <= big <= _VALUE_MAX:
+            raise InputError(f"calibrate: {where}: values up to {big:.3g} are beyond the range "
+                             f"the deconvolution can square (largest |value| in "
+                             f"[{1 / _VALUE_MAX:g}, {_VALUE_MAX:g}])")
     cal = calibrate(r, U, S, comp, args.method, noise_sd_mV=args.noise_sd, n_boot=args.n_boot,
-                    seed=args.seed)
+                    seed=args.seed, progress=_Progress("bootstrap"))
     has_band = int(cal.info["n_boot"]) > 0
-    if out is not None:
-        from .files import write_csv, write_meta_json
+    from .files import write_csv
 
-        write_csv(out, cal.columns())
-        write_meta_json(out, {
-            "written_by": "spectral-contact calibrate",
-            "columns": {"r_m": "radius [m] from the sensor centre",
-                        "G_per_m2": f"G_{comp}, unit integral over the plane [1/m^2]",
-                        "G_lo_per_m2": f"lower edge of the {cal.info['level']:.0%} bootstrap band "
-                                       f"(noise only; bias not included) [1/m^2]",
-                        "G_hi_per_m2": "upper edge of that band [1/m^2]",
-                        "AG_mV_per_bar_per_m2": f"A_{comp} G_{comp} [mV/bar/m^2]"},
-            "component": comp, "method": args.method, "A_mV_per_bar": cal.A_mV_per_bar,
-            "A_lo_mV_per_bar": cal.A_lo if has_band else None,
-            "A_hi_mV_per_bar": cal.A_hi if has_band else None,
-            "band_level": cal.info["level"], "n_boot": cal.info["n_boot"],
-            "noise_sd_mV": cal.info["noise_sd_mV"], "measured": str(args.measured),
-            "computed": source})
-    if plot is not None:
-        _plot_calibration(plot, cal, r, U)
+    with Outputs() as outs:
+        if out is not None:
+            write_csv(outs.path(out), cal.columns())
+            add_meta(outs, out, {
+                "written_by": "spectral-contact calibrate",
+                "columns": {"r_m": "radius [m] from the sensor centre",
+                            "G_per_m2": f"G_{comp}, unit integral over the plane [1/m^2]",
+                            "G_lo_per_m2": f"lower edge of the {cal.info['level']:.0%} bootstrap band "
+                                           f"(noise only; bias not included) [1/m^2]",
+                            "G_hi_per_m2": "upper edge of that band [1/m^2]",
+                            "AG_mV_per_bar_per_m2": f"A_{comp} G_{comp} [mV/bar/m^2]"},
+                "component": comp, "method": args.method, "A_mV_per_bar": cal.A_mV_per_bar,
+                "A_lo_mV_per_bar": cal.A_lo if has_band else None,
+                "A_hi_mV_per_bar": cal.A_hi if has_band else None,
+                "band_level": cal.info["level"], "n_boot": cal.info["n_boot"],
+                "noise_sd_mV": cal.info["noise_sd_mV"], "measured": str(args.measured),
+                "computed": source})
+        if plot is not None:
+            _plot_calibration(outs.path(plot), cal, r, U)
     rec = {"component": comp, "method": args.method, "A_mV_per_bar": cal.A_mV_per_bar,
            "A_lo_mV_per_bar": cal.A_lo if has_band else None,  # no band without the bootstrap
            "A_hi_mV_per_bar": cal.A_hi if has_band else None,
            "noise_sd_mV": cal.info["noise_sd_mV"], "points": int(r.size),
            "out": str(out) if out else None}
     if args.json:
-        print(json.dumps(rec, indent=2))
+        print(to_json(rec))
     else:
         band = (f"{cal.info['level']:.0%} noise band {cal.A_lo:.5g} .. {cal.A_hi:.5g}, bias not "
                 f"included" if has_band else "no band: --n-boot 0")

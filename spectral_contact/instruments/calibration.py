@@ -409,12 +409,13 @@ def calibrate(r_m, U_mV, sigma_Pa, component: str = "zz", method: str = "ratio",
               relevant: float = 1e-5, fill_zeros: bool = True,
               support_m: float | None = None, n_boot: int = 40,
               level: float = 0.95,
-              seed: int = 0) -> Calibration:
+              seed: int = 0, progress=None) -> Calibration:
     """Deconvolve the radial profiles U_mV(r) = A G (*) sigma_Pa(r); see the module docstring.
 
     r_m : uniform radii from 0 [m], shared by both profiles;  U_mV : measured output [mV];
     sigma_Pa : computed base stress in the sensor convention (compression positive for "zz");
     parameter : "gcv" or "discrepancy" (needs noise_sd_mV), for method="wiener".
+    progress : optional callable(done, total), called after each bootstrap replicate.
     Returns a ``Calibration`` (A in mV/bar).
     """
     if component not in ("zz", "xz"):
@@ -445,6 +446,10 @@ def calibrate(r_m, U_mV, sigma_Pa, component: str = "zz", method: str = "ratio",
             return AGb, Ab
         centre = U  # the ratio's forward fit is not a smoother: perturb the data themselves
     else:
+        if support_m is None and grid.r_max < 8 * grid.dx:
+            raise InputError(f"calibrate: method wiener needs radial profiles reaching r >= 8 dr "
+                             f"(at least 9 rows; G's support is r_max/2 >= 4 dr); got r_max = "
+                             f"{grid.r_max:g} m with dr = {grid.dx:g} m")
         support = 0.5 * grid.r_max if support_m is None else float(support_m)
         if not (grid.dx * 4 <= support <= grid.r_max):
             raise InputError(f"support_m must be within [4 dr, r_max]; got {support}")
@@ -465,11 +470,13 @@ def calibrate(r_m, U_mV, sigma_Pa, component: str = "zz", method: str = "ratio",
         raise InputError("calibrate: the deconvolved apparatus function has zero integral")
     G = AG / A
     Gs, As = [], []
-    for b in range(int(n_boot)):
-        if b % 5 == 0:
+    for i in range(int(n_boot)):
+        if i % 5 == 0:
             _log.info("calibrate %s (%s): bootstrap realisation %d of %d", component, method,
-                      b + 1, n_boot)
+                      i + 1, n_boot)
         AGb, Ab = replicate(centre + sd * rng.standard_normal(r.size))
+        if progress is not None:
+            progress(i + 1, int(n_boot))
         if math.isfinite(Ab) and Ab != 0.0:
             Gs.append(AGb / Ab)
             As.append(Ab)

@@ -17,6 +17,7 @@ line).  Nothing here writes files.
 from __future__ import annotations
 
 import math
+import stat
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -26,11 +27,16 @@ from ..errors import InputError
 from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR, PA_PER_BAR
 
 __all__ = ["read_table", "read_measured_profile", "read_radial_profile", "MeasuredProfile",
-           "check_uniform", "STRESS_COLUMNS", "VOLTAGE_COLUMNS", "MIN_POINTS", "UNIFORM_RTOL"]
+           "check_uniform", "STRESS_COLUMNS", "VOLTAGE_COLUMNS", "MIN_POINTS", "UNIFORM_RTOL",
+           "MAX_BYTES"]
 
 STRESS_COLUMNS = ("x_m", "S_zz_Pa", "S_xz_Pa")
 VOLTAGE_COLUMNS = ("x_m", "U_zz_mV", "U_xz_mV")
 MIN_POINTS = 8
+MAX_BYTES = 20 * 10**6
+"""Largest measured file read (20 MB, ~300 000 rows of three doubles at full precision): a sensor
+scan has thousands of rows, and a 200 MB file kept the reader and the comparison busy for over
+10 minutes (issue 11)."""
 UNIFORM_RTOL = 1e-3
 
 
@@ -57,7 +63,17 @@ def read_table(path, *, required=(), any_of=(), what: str = "columns") -> dict:
     path = Path(path)
     name = str(path)
     try:
-        text = path.read_text(encoding="utf-8-sig")  # a BOM (spreadsheet exports) is skipped
+        st = path.stat()
+        if not stat.S_ISREG(st.st_mode):  # a FIFO or a device would block or never end
+            raise InputError(f"{name}: not a regular file")
+        if st.st_size > MAX_BYTES:
+            raise InputError(f"{name}: {st.st_size / 1e6:.0f} MB exceeds the {MAX_BYTES / 1e6:.0f} MB "
+                             f"limit on measured files (~{MAX_BYTES // 60:,} rows)")
+        with path.open("rb") as fh:
+            raw = fh.read(MAX_BYTES + 1)
+        if len(raw) > MAX_BYTES:
+            raise InputError(f"{name}: exceeds the {MAX_BYTES / 1e6:.0f} MB limit on measured files")
+        text = raw.decode("utf-8-sig")  # a byte-order mark (spreadsheet export) is accepted
     except UnicodeDecodeError:
         raise InputError(f"{name}: not a UTF-8 text file") from None
     except OSError as exc:

@@ -16,6 +16,7 @@ film of the same E is stiffer in shear by 3/(2(1 + nu)) and its stress unit foll
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,17 +25,26 @@ from ..errors import InputError
 from .friction import FrictionLaw
 
 __all__ = ["Scene", "Scene3D", "INDENTERS_3D", "PAPER_SCENE", "check_finite", "check_positive",
-           "check_tol", "check_poisson"]
+           "check_tol", "check_poisson", "MU_MAX", "A_OVER_H_MAX", "TOL_MIN"]
 
 
 def check_finite(name: str, value, accepted: str) -> float:
+    """A real number (int, float, numpy scalar; not bool, str or bytes), finite as a float."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise InputError(f"{name} must be a number ({accepted}); got {_short(value)}")
     try:
         v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a number ({accepted}); got {value!r}") from None
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{name} must be a finite number ({accepted}); got "
+                         f"{_short(value)}") from None
     if not math.isfinite(v):
         raise InputError(f"{name} must be finite ({accepted}); got {v}")
     return v
+
+
+def _short(value, n: int = 40) -> str:
+    r = repr(value)
+    return r if len(r) <= n else r[:n] + "..."
 
 
 def check_positive(name: str, value, unit: str) -> float:
@@ -50,17 +60,29 @@ def check_poisson(nu) -> float:
     if not 0.0 <= v <= 0.5:
         raise InputError(f"poisson (nu) must be in [0, 0.5]; got {v}")
     return v
+TOL_MIN = 1e-14
+"""Smallest relative tolerance: differences of a few round-offs (2.2e-16) cannot be resolved."""
 
 
 def check_tol(tol) -> float:
-    """A relative accuracy target: a number in (0, 0.1)."""
-    try:
-        t = float(tol)
-    except (TypeError, ValueError):
-        raise InputError(f"tol must be a number in (0, 0.1); got {tol!r}") from None
-    if not (math.isfinite(t) and 0.0 < t < 0.1):
-        raise InputError(f"tol must be in (0, 0.1); got {tol}")
+    """A relative accuracy target: a number in [TOL_MIN, 0.1)."""
+    t = check_finite("tol", tol, f"in [{TOL_MIN:g}, 0.1)")
+    if not (math.isfinite(t) and TOL_MIN <= t < 0.1):
+        raise InputError(f"tol must be in [{TOL_MIN:g}, 0.1); got {tol}")
     return t
+
+
+MU_MAX = 1e3
+"""Largest |mu_d| accepted: the FFT solver is verified to |mu| = 100 (and fails to converge,
+exit 3, from ~1e3 on the paper's scene); beyond 1e3 round-off breaks the linear algebra."""
+A_OVER_H_MAX = 1e8
+"""Largest Hertz half-width a_H/h = sqrt(P / 2 pi) accepted: the FFT solver is verified to 1e8
+frictionless (with friction it stops converging, exit 3, from ~1e3); beyond, the film's scales
+leave floating-point range."""
+_TYPICAL = {"load": 200.0, "young": 2.2e6, "radius": 0.130, "thickness": 0.002}
+_LABEL = {"load": "load (P_L)", "young": "young (E)", "radius": "radius (R)",
+          "thickness": "thickness (h)"}
+_UNIT = {"load": "N/m", "young": "Pa", "radius": "m", "thickness": "m"}
 
 
 @dataclass(frozen=True)
@@ -73,7 +95,7 @@ class Scene:
     load : float
         P_L, normal load per unit length of cylinder [N/m], >= 0 (0 means no contact).
     mu : float
-        mu_d, dynamic (Amontons) friction coefficient, signed: mu > 0 means the cylinder slides
+        mu_d, dynamic (Amontons) friction coefficient, in [-MU_MAX, MU_MAX], signed: mu > 0 means the cylinder slides
         toward +x and drags the film surface toward +x (sigma_xz(x, h) = mu * p(x)); mu < 0 means
         sliding toward -x.
     young : float
@@ -102,6 +124,10 @@ class Scene:
     interface_pressure, interface_length : float, optional
         p0 [Pa] > 0 and lambda [m] > 0 of the exponential law (required by it, refused
         otherwise).  The exponential law has no sharp contact edges.
+
+    The derived units (h^2/2R, E h/6R) must be finite and > 0, and the Hertz half-width
+    sqrt(P / 2 pi) at most A_OVER_H_MAX film thicknesses; else InputError names the parameter
+    farthest (in decades) from the paper's value.
     """
 
     load: float = 200.0
@@ -141,8 +167,45 @@ class Scene:
         if load < 0.0:
             raise InputError(f"load (P_L) must be >= 0 N/m; got {load}")
         object.__setattr__(self, "load", load)
-        object.__setattr__(self, "mu", check_finite("mu (mu_d)", self.mu, "any finite real"))
+        mu = check_finite("mu (mu_d)", self.mu, f"in [-{MU_MAX:g}, {MU_MAX:g}]")
+        if abs(mu) > MU_MAX:
+            raise InputError(f"mu (mu_d) must be in [-{MU_MAX:g}, {MU_MAX:g}]; got {mu:g}")
+        object.__setattr__(self, "mu", mu + 0.0)  # + 0.0: no -0
+        object.__setattr__(self, "load", load + 0.0)
+        self._check_scales()
         self._check_interface_law()
+
+    def extreme_parameter(self, names=("load", "young", "thickness", "radius")) -> str:
+        """"name = value unit" of the parameter among ``names`` farthest (in decades) from the
+        paper's value: the one to name when a derived quantity is out of range."""
+        far = max(names, key=lambda n: abs(math.log10(getattr(self, n) / _TYPICAL[n]))
+                  if getattr(self, n) > 0 else math.inf)
+        return f"{_LABEL[far]} = {getattr(self, far):g} {_UNIT[far]}"
+
+    def _check_scales(self):
+        """Every derived scale finite and > 0, and the contact within the solvers' range; the
+        message names the parameter farthest (in decades) from the paper's value."""
+        blame = self.extreme_parameter
+
+        for prop, what, names in (
+                ("displacement_unit", "the displacement unit h^2/(2R) [m]", ("thickness", "radius")),
+                ("stress_unit", "the stress unit E h/(6R) [Pa]", ("young", "thickness", "radius"))):
+            try:
+                value = getattr(self, prop)
+            except OverflowError:  # float ** raises where * gives inf
+                value = math.inf
+            if not (math.isfinite(value) and value > 0.0):
+                raise InputError(f"{blame(names)} is out of range: it makes {what} = {value:g}, "
+                                 f"not a finite number > 0")
+        if self.load > 0.0:
+            P = self.P
+            s = math.sqrt(P / (2.0 * math.pi)) if math.isfinite(P) else math.inf
+            if not (P > 0.0 and s <= A_OVER_H_MAX):
+                raise InputError(
+                    f"{blame(('load', 'young', 'thickness', 'radius'))} is out of range: the "
+                    f"dimensionless load P_L 6R/(E h^2) = {P:.3g} (Hertz half-width {s:.3g} h) "
+                    f"must be > 0 with a Hertz half-width <= {A_OVER_H_MAX:g} film thicknesses")
+
 
     def _check_interface_law(self):
         law = self.interface_law

@@ -53,7 +53,7 @@ class Method(ABC):
     Parameters
     ----------
     tol : float
-        Relative accuracy target, in (0, 0.1).
+        Relative accuracy target, in [1e-14, 0.1).
     grid_points : int, optional
         The method's resolution (grid points, nodes), fixed instead of chosen from ``tol``.
     domain_length : float, optional

@@ -59,7 +59,8 @@ def solve_scene(scene: Scene, model: str, method: str, tol: float, grid_points=N
                          f"{scene.interface_compliance:g} m/Pa, law {scene.interface_law}: use "
                          "model exact or goodman")
     if model == "hertz":  # closed form, whatever the method
-        return solve_hertz(scene, tol=solver.tol, grid_points=grid_points, domain_length=domain_length)
+        return solve_hertz(scene, tol=solver.tol, grid_points=solver.grid_points,
+                           domain_length=domain_length)
     if model != "auto":
         return solver.solve(scene, model)
     s = hertz_half_width(scene.P)
@@ -76,7 +77,8 @@ def solve_scene(scene: Scene, model: str, method: str, tol: float, grid_points=N
         return r
     chosen, reason, bounds = choose_model(s, scene.mu, solver.tol)
     if chosen == "hertz":
-        r = solve_hertz(scene, tol=solver.tol, grid_points=grid_points, domain_length=domain_length)
+        r = solve_hertz(scene, tol=solver.tol, grid_points=solver.grid_points,
+                        domain_length=domain_length)
     else:
         r = solver.solve(scene, chosen)
     r.info.update({"auto": chosen, "auto_reason": reason, "auto_bounds": bounds,

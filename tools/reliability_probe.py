@@ -1,0 +1,236 @@
+"""Adversarial inputs for issue 11: run each through the command line and tally the outcomes.
+
+    python tools/reliability_probe.py [--jobs 2]
+
+Each case: argv, the accepted exit codes, and checks applied to every run: one stderr line on a
+non-zero exit, no traceback, no NaN/Infinity in stdout, no file left behind on a non-zero exit,
+no timeout (60 s).  Prints one line per failing case and the tallies.  Runs in a scratch folder.
+``--src DIR`` runs another checkout (e.g. ``git archive de44ce0 | tar -x -C DIR``: "before").
+"""
+from __future__ import annotations
+
+import argparse
+import concurrent.futures as cf
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+S = "solve"
+SRC = None  # --src: PYTHONPATH of the package under test
+MEAS = "meas.csv"  # a small measured profile written by _fixtures
+RAD = "rad.csv"
+
+CASES = [
+    # (argv, accepted exit codes, note)
+    ([S, "--domain-length", "0.006"], {2}, "period too short"),
+    ([S, "--domain-length", "0.02"], {2}, "period too short for tol 1e-4"),
+    ([S, "--domain-length", "0.03", "--tol", "0.01", "--json"], {0}, "period ok at tol 1e-2"),
+    ([S, "--grid-points", "64", "--json"], {0}, "fixed N, estimate > tol: flagged",
+     '"tolerance_met": false'),
+    ([S, "--mu", "1000", "--method", "abel"], {3}, "abel beyond validity"),
+    ([S, "--mu", "96", "--method", "abel"], {3}, "abel beyond validity"),
+    ([S, "--mu", "-1000", "--method", "abel"], {3}, "abel beyond validity"),
+    ([S, "--load", "70.8872", "--mu", "100", "--method", "abel"], {3}, "abel beyond validity"),
+    ([S, "--radius", "1e-308"], {2}, "underflow"),
+    ([S, "--radius", "1e-308", "--json"], {2}, "underflow json"),
+    ([S, "--load", "1e308"], {2}, "overflow"),
+    ([S, "--mu", "1e308"], {2, 3}, "huge mu"),
+    ([S, "--young", "1e-308"], {2}, "tiny E"),
+    ([S, "--young", "1e-100"], {2}, "tiny E"),
+    ([S, "--radius", "1e308"], {2}, "huge R"),
+    ([S, "--thickness", "1e-308"], {2}, "tiny h"),
+    ([S, "--thickness", "1e308"], {2}, "huge h"),
+    ([S, "--tol", "1e-308"], {2}, "tiny tol"),
+    ([S, "--domain-length", "1e308"], {2}, "huge period"),
+    ([S, "--young", "0"], {2}, "zero E"),
+    ([S, "--load", "-0"], {0}, "-0 load", "P_L = 0 N/m"),
+    ([S, "--profiles", "p.png", "--plot", "p.png"], {2}, "same path"),
+    ([S, "--profiles", "p.csv", "--plot", "/proc/x.png"], {2}, "plot fails after csv"),
+    ([S, "--profiles", "nodir/p.csv"], {2}, "missing folder"),
+    ([S, "--profiles", ""], {2}, "empty path"),
+    ([S, "--load", "57", "--mu", "10", "--thickness", "0.0002", "--tol", "0.01"], {0}, "level list"),
+    ([S, "--load", "57", "--mu", "10", "--thickness", "0.0002", "--tol", "0.01", "--model", "auto"],
+     {0}, "level list auto"),
+    ([S, "--load", "300855", "--mu", "30"], {0}, "auto domain wide contact"),
+    ([S, "--load", "300855", "--mu", "30", "--tol", "1e-3"], {0, 3}, "wide contact, loose tol"),
+    ([S, "--grid-points", "16777216"], {2}, "unbounded N"),
+    ([S, "--grid-points", "64.5"], {2}, "fractional N"),
+    (["study", "_common"], {2}, "private study"),
+    (["study", "__init__"], {2}, "private study"),
+    (["compare", "fifo.csv"], {2}, "FIFO"),
+    (["compare", "bom.csv", "--tol", "1e-3", "--no-fit"], {0}, "BOM header"),
+    (["compare", MEAS, "--young", "1e-308", "--no-fit"], {2}, "compare tiny E"),
+    (["compare", MEAS, "--thickness", "1e308", "--no-fit"], {2}, "compare huge h"),
+    (["compare", "big.csv", "--no-fit"], {2}, "compare huge cells"),
+    (["compare", MEAS, "--no-fit", "--plot", "c.png", "--json"], {0}, "compare ok"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--seed", "-1"], {2}, "seed -1"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--n-boot", "100000000000"], {2},
+     "n-boot unbounded"),
+    (["calibrate", "--measured", RAD, "--punch-load", "1e308"], {2}, "calibrate huge load"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--thickness", "1e-308"], {0, 2},
+     "calibrate tiny h (the h -> 0 limit: base stress = surface pressure)"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--out", "G.png", "--plot",
+      "G.png"], {2}, "calibrate same path"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--out", "G.csv", "--plot",
+      "/proc/x.png"], {2}, "calibrate plot fails after csv"),
+    (["calibrate", "--measured", "fifo.csv", "--punch-load", "0.1"], {2}, "calibrate FIFO"),
+    # --- more of the same classes ---
+    ([S, "--load", "0", "--json"], {0}, "no load"),
+    ([S, "--load", "nan"], {2}, "nan"), ([S, "--load", "inf"], {2}, "inf"),
+    ([S, "--mu", "nan"], {2}, "nan mu"), ([S, "--mu", "1001"], {2}, "mu beyond 1e3"),
+    ([S, "--mu", "-1000", "--tol", "1e-2"], {0, 3}, "mu -1e3"),
+    ([S, "--tol", "0"], {2}, "tol 0"), ([S, "--tol", "0.1"], {2}, "tol 0.1"),
+    ([S, "--tol", "-1"], {2}, "tol < 0"), ([S, "--tol", "1e-14"], {2, 3}, "tol at the floor"),
+    ([S, "--grid-points", "0"], {2}, "N 0"), ([S, "--grid-points", "-64"], {2}, "N < 0"),
+    ([S, "--grid-points", "65"], {2}, "odd N"), ([S, "--grid-points", "1e3"], {2}, "N as float"),
+    ([S, "--domain-length", "0"], {2}, "L 0"), ([S, "--domain-length", "-1"], {2}, "L < 0"),
+    ([S, "--domain-length", "nan"], {2}, "L nan"),
+    ([S, "--domain-length", "0.03"], {2}, "L below the minimum at tol 1e-4"),
+    ([S, "--domain-length", "0.04", "--json"], {0}, "L above the minimum"),
+    ([S, "--method", "abel", "--domain-length", "0.05"], {2}, "abel with L"),
+    ([S, "--method", "abel", "--grid-points", "5"], {2}, "abel nodes"),
+    ([S, "--method", "abel", "--grid-points", "3000"], {2}, "abel nodes"),
+    ([S, "--model", "hertz", "--load", "1e-12", "--json"], {0}, "hertz tiny load"),
+    ([S, "--model", "auto", "--mu", "1000", "--tol", "1e-2"], {0, 3}, "auto huge mu"),
+    ([S, "--mu", "30", "--load", "300855", "--tol", "1e-3", "--json"], {0, 3}, "strong friction"),
+    ([S, "--mu", "100", "--load", "300855", "--tol", "1e-3"], {0, 3}, "stronger friction"),
+    ([S, "--plot", "x.txt"], {2}, "plot format"), ([S, "--plot", "nodir/x.png"], {2}, "plot dir"),
+    ([S, "--profiles", "/proc/x.csv"], {2}, "unwritable dir"), ([S, "--profiles", "."], {2}, "dir"),
+    ([S, "--json", "--sensor", "--profiles", "s.csv"], {0}, "sensor"),
+    ([S, "--sensor", "--a-zz", "nan", "--profiles", "s.csv"], {2}, "sensor gain nan"),
+    ([S, "--sensor", "--a-zz", "0", "--profiles", "s.csv"], {2}, "sensor gain 0"),
+    ([S, "--model", "foo"], {2}, "model"), ([S, "--bogus"], {2}, "option"), (["nosuch"], {2}, "cmd"),
+    (["study", "nosuch"], {2}, "study"), (["study", ""], {2}, "study ''"),
+    (["study", "../tests"], {2}, "study path"),
+    (["compare", "missing.csv"], {2}, "missing"), (["compare", "empty.csv"], {2}, "empty"),
+    (["compare", "header.csv"], {2}, "header only"), (["compare", "nonuni.csv"], {2}, "non-uniform"),
+    (["compare", "."], {2}, "directory"), (["compare", MEAS, "--tol", "0.5"], {2}, "tol"),
+    (["compare", MEAS, "--a-zz", "0"], {2}, "gain"),
+    (["compare", MEAS, "--apparatus-zz", "fifo.csv"], {2}, "apparatus FIFO"),
+    (["compare", MEAS, "--plot", "c.csv"], {2}, "plot format"),
+    (["compare", "u.csv", "--no-fit", "--json"], {0}, "U file"),
+    (["calibrate", "--measured", "missing.csv", "--punch-load", "0.1"], {2}, "missing"),
+    (["calibrate", "--measured", RAD, "--computed", "missing.csv"], {2}, "missing computed"),
+    (["calibrate", "--measured", RAD], {2}, "no source"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--punch-radius", "0"], {2}, "radius"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--method", "foo"], {2}, "method"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--component", "yy"], {2}, "comp"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--noise-sd", "-1"], {2}, "sd"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--n-boot", "0", "--json"], {0}, "0"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--out", "."], {2}, "out dir"),
+    (["calibrate", "--measured", "rad8.csv", "--punch-load", "0.1"], {2}, "short profile"),
+    (["calibrate", "--measured", "radbig.csv", "--punch-load", "0.1"], {2}, "cells of 1e300"),
+    (["calibrate", "--measured", RAD, "--computed", "radbig.csv"], {2}, "computed 1e300"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--thickness", "1e308"], {2}, "h"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--thickness", "0.02"], {2},
+     "plane grid of 19 GB"),
+    (["calibrate", "--measured", RAD, "--punch-load", "1e-308"], {2}, "tiny load"),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.1", "--punch-radius", "1e300"], {2},
+     "punch wider than the scan"),
+    (["compare", "mtiny.csv", "--no-fit"], {2}, "x in steps of 1e-303 m"),
+    (["compare", MEAS, "--radius", "1e-300", "--no-fit"], {2}, "compare tiny R"),
+    (["compare", MEAS, "--tol", "1e-308", "--no-fit"], {2}, "compare tiny tol"),
+    (["compare", MEAS, "--apparatus-zz", "missing.csv"], {2}, "apparatus missing"),
+]
+
+
+def _fixtures(d: Path):
+    import numpy as np
+
+    from spectral_contact import solve
+    from spectral_contact.instruments.sensor import sensor_view
+
+    r = solve(tol=1e-3)
+    s = sensor_view(r)
+    sel = np.abs(r.x_m) < 0.01
+    x, zz, xz = r.x_m[sel][::8], s["S_zz_Pa"][sel][::8], s["S_xz_Pa"][sel][::8]
+    rows = "\n".join(f"{a:.17g},{b:.17g},{c:.17g}" for a, b, c in zip(x, zz, xz))
+    (d / MEAS).write_text("x_m,S_zz_Pa,S_xz_Pa\n" + rows + "\n")
+    (d / "bom.csv").write_text("\ufeffx_m,S_zz_Pa,S_xz_Pa\n" + rows + "\n", encoding="utf-8")
+    big = "\n".join(f"{a:.17g},{b * 1e300:.17g},{c * 1e300:.17g}" for a, b, c in zip(x, zz, xz))
+    (d / "big.csv").write_text("x_m,S_zz_Pa,S_xz_Pa\n" + big + "\n")
+    rr = np.arange(40) * 50e-6
+    U = 5.0 * np.exp(-0.5 * (rr / 0.6e-3) ** 2)
+    (d / RAD).write_text("r_m,U_zz_mV\n" + "\n".join(f"{a:.17g},{b:.17g}" for a, b in zip(rr, U)) + "\n")
+    os.mkfifo(d / "fifo.csv")
+    (d / "empty.csv").write_text("")
+    (d / "mtiny.csv").write_text("x_m,S_zz_Pa,S_xz_Pa\n" + "\n".join(
+        f"{a * 1e-300:.17g},{b:.17g},{c:.17g}" for a, b, c in zip(x, zz, xz)) + "\n")
+    (d / "header.csv").write_text("x_m,S_zz_Pa,S_xz_Pa\n")
+    xs = np.r_[np.arange(10) * 1e-3, 0.0105]
+    (d / "nonuni.csv").write_text("x_m,S_zz_Pa,S_xz_Pa\n" + "\n".join(f"{a:.6g},1,1" for a in xs))
+    (d / "u.csv").write_text("x_m,U_zz_mV,U_xz_mV\n" + "\n".join(
+        f"{a:.17g},{b * 19e-5:.17g},{c * 7.95e-5:.17g}" for a, b, c in zip(x, zz, xz)) + "\n")
+    (d / "radbig.csv").write_text("r_m,U_zz_mV,S_zz_Pa\n" + "\n".join(
+        f"{a:.17g},{b * 1e300:.17g},{b * 1e300:.17g}" for a, b in zip(rr, U)) + "\n")
+    r8 = rr[:8]
+    (d / "rad8.csv").write_text("r_m,U_zz_mV\n" + "\n".join(f"{a:.17g},1" for a in r8) + "\n")
+
+
+def _run(case, root: Path):
+    argv, ok_codes, note = case[:3]
+    d = Path(tempfile.mkdtemp(dir=root))
+    for f in root.glob("fix/*"):
+        os.symlink(f, d / f.name)
+    before = set(os.listdir(d))
+    try:
+        env = dict(os.environ, **({"PYTHONPATH": SRC} if SRC else {}))
+        p = subprocess.run([sys.executable, "-m", "spectral_contact.cli.main", *argv], cwd=d,
+                           capture_output=True, text=True, timeout=60, env=env)
+    except subprocess.TimeoutExpired:
+        return case, ["timeout (60 s)"], None
+    problems = []
+    err = p.stderr.strip().splitlines()
+    if p.returncode not in ok_codes:
+        problems.append(f"exit {p.returncode} (want {sorted(ok_codes)})")
+    if "Traceback" in p.stderr:
+        problems.append("traceback")
+    if p.returncode != 0 and len(err) != 1:
+        problems.append(f"{len(err)} stderr lines")
+    if any(w in p.stdout for w in ("NaN", "Infinity", " nan", " inf")):
+        problems.append("NaN/inf in output")
+    if len(case) > 3 and p.returncode == 0 and case[3] not in p.stdout:
+        problems.append(f"stdout lacks {case[3]!r}")
+    left = set(os.listdir(d)) - before
+    if p.returncode != 0 and left:
+        problems.append(f"left {sorted(left)}")
+    if "--json" in argv and p.returncode == 0:
+        try:
+            json.loads(p.stdout)
+        except ValueError:
+            problems.append("invalid JSON")
+    return case, problems, (p.returncode, err[-1] if err else "")
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("-v", action="store_true", help="print every case's outcome")
+    ap.add_argument("-k", default="", help="only cases whose command line contains this")
+    ap.add_argument("--src", default=None,
+                    help="run another checkout of the package (e.g. an exported older commit)")
+    args = ap.parse_args(argv)
+    global SRC
+    SRC = str(Path(args.src).resolve()) if args.src else None
+    cases = [c for c in CASES if args.k in " ".join(c[0])]
+    with tempfile.TemporaryDirectory() as tmp:
+        root = Path(tmp)
+        (root / "fix").mkdir()
+        _fixtures(root / "fix")
+        bad = 0
+        with cf.ThreadPoolExecutor(args.jobs) as ex:
+            for case, problems, out in ex.map(lambda c: _run(c, root), cases):
+                if problems:
+                    bad += 1
+                if problems or args.v:
+                    print(f"{'FAIL' if problems else 'ok  '} {' '.join(case[0])}  [{case[2]}]: "
+                          f"{'; '.join(problems) or ''} -> {out}")
+        print(f"{len(cases)} inputs: {len(cases) - bad} as promised, {bad} not")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
