@@ -96,6 +96,9 @@ class Outputs:
                 fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
             except FileExistsError:
                 continue
+            except OSError as exc:  # name the user's file, not the temporary
+                raise InputError(f"{target}: cannot write in {target.parent} "
+                                 f"({exc.strerror or exc})") from None
             os.close(fd)
             self._pending.append((tmp, target))
             return tmp

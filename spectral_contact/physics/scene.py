@@ -296,6 +296,12 @@ PAPER_SCENE = Scene()
 
 
 INDENTERS_3D = ("sphere", "cylinder", "paraboloid", "function")
+A_OVER_H_MIN_3D = 1e-3
+"""Smallest Hertz radius / h a 3D scene may have (the decay margin of ~15 h around a contact
+of 1e-3 h already needs ~10^5 cells per axis: the solver refuses before allocating)."""
+A_OVER_H_MAX_3D = 1e3
+"""Largest Hertz radius / h of a 3D scene (beyond, the grid over the contact alone exceeds
+8192^2 points)."""
 
 
 @dataclass(frozen=True)
@@ -385,10 +391,22 @@ class Scene3D:
             ext = 2.0 * self.thickness if self.extent is None else self.extent
             object.__setattr__(self, "extent", check_positive("extent", ext, "m"))
         for name in ("length_unit", "displacement_unit", "stress_unit", "P"):
-            v = getattr(self, name)
+            try:
+                v = getattr(self, name)
+            except OverflowError:  # float ** raises where * gives inf
+                v = math.inf
             if not (math.isfinite(v) and (v > 0 or (name == "P" and v == 0))):
                 raise InputError(f"the scene's {name.replace('_', ' ')} is {v:g}: force, young, "
                                  f"radius or thickness out of range")
+        if self.P > 0:
+            # the Hertz radius (3P/32)^(1/3) in film thicknesses: within what a 2D grid of at
+            # most 8192^2 points can hold with the film's decay margin around it
+            s = (3.0 * self.P / 32.0) ** (1.0 / 3.0)
+            if not A_OVER_H_MIN_3D <= s <= A_OVER_H_MAX_3D:
+                raise InputError(
+                    f"force, young, radius or thickness out of range for 3D: the Hertz contact "
+                    f"radius would be {s:.3g} film thicknesses; the 3D solver takes "
+                    f"{A_OVER_H_MIN_3D:g} ... {A_OVER_H_MAX_3D:g} (smaller: use model hertz)")
 
     length_unit = Scene.length_unit
     displacement_unit = Scene.displacement_unit

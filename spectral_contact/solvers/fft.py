@@ -419,25 +419,33 @@ class FFTMethod(Method):
 
     def __init__(self, tol: float = 1e-4, grid_points=None, domain_length=None):
         super().__init__(tol)
-        self.surface_options = (grid_points, domain_length)  # 3D: checked by solve_fft3d
-        if np.ndim(grid_points) == 0:
-            grid_points = check_grid_points(grid_points, MIN_POINTS, 2**62, "fft grid points",
-                                            even=True)
-            if grid_points is not None and grid_points > MAX_POINTS:  # before allocating
-                raise InputError(
-                    f"grid_points (fft grid points) must be in [{MIN_POINTS}, {MAX_POINTS}] "
-                    f"(2^22); {grid_points} would need ~{grid_points * _BYTES_PER_POINT / 1e9:.1f} GB")
-        if domain_length is not None and np.ndim(domain_length) == 0:
-            domain_length = check_positive("domain_length", domain_length, "h")
+        # the options' meaning depends on the scene: checked in solve (line: here; 3D: per axis,
+        # by solvers.fft3d)
         self.grid_points = grid_points
         self.domain_length = domain_length
+
+    def _line_options(self):
+        grid_points, domain_length = self.grid_points, self.domain_length
+        if np.ndim(grid_points) or np.ndim(domain_length):
+            raise InputError("grid_points and domain_length are single numbers for a line "
+                             "indenter (pairs [nx, ny], [Lx, Ly] are for 3D indenters)")
+        big = check_grid_points(grid_points, MIN_POINTS, 2**62, "fft grid points", even=True) \
+            if isinstance(grid_points, (int, float)) and grid_points > MAX_POINTS else None
+        if big is not None:  # before allocating anything
+            raise InputError(
+                f"grid_points (fft grid points) must be in [{MIN_POINTS}, {MAX_POINTS}] "
+                f"(2^22); {big} would need ~{big * _BYTES_PER_POINT / 1e9:.1f} GB")
+        grid_points = check_grid_points(grid_points, MIN_POINTS, MAX_POINTS, "fft grid points",
+                                        even=True)
+        if domain_length is not None:
+            domain_length = check_positive("domain_length", domain_length, "h")
+        return grid_points, domain_length
 
     def solve(self, scene, model: str, progress=None):
         """A ContactResult for a plane-strain ``Scene``; a ContactResult3D for a ``Scene3D``."""
         model = self.check_model(model)
         if isinstance(scene, Scene3D):
-            return solve_fft3d(scene, model, self.tol, *self.surface_options, progress=progress)
-        if np.ndim(self.grid_points) or np.ndim(self.domain_length):
-            raise InputError("grid_points and domain_length are single numbers for a line "
-                             "indenter (pairs [nx, ny], [Lx, Ly] are for 3D indenters)")
-        return solve_fft(scene, model, self.tol, self.grid_points, self.domain_length)
+            return solve_fft3d(scene, model, self.tol, self.grid_points, self.domain_length,
+                               progress=progress)
+        grid_points, domain_length = self._line_options()
+        return solve_fft(scene, model, self.tol, grid_points, domain_length)

@@ -32,6 +32,7 @@ Memory is estimated before any allocation; a scene that would not fit is refused
 from __future__ import annotations
 
 import math
+import numbers
 import os
 import time
 
@@ -78,8 +79,8 @@ def _available_memory() -> float:
 def _check_size(shape, what: str) -> None:
     nx, ny = shape
     if max(nx, ny) > MAX_POINTS_3D:
-        raise InputError(f"{what} needs a {nx} x {ny} grid (> {MAX_POINTS_3D} per axis): raise tol, "
-                         f"or the contact is too small for the film (use model hertz)")
+        raise InputError(f"{what} needs a {nx:.3g} x {ny:.3g} grid (> {MAX_POINTS_3D} per axis): "
+                         f"raise tol, or the contact is too small for the film (use model hertz)")
     need = memory_needed(nx, ny)
     have = _available_memory()
     if need > 0.8 * have:
@@ -135,10 +136,13 @@ def _plans_time() -> float:
 def _check_fixed(grid_points, domain_length):
     if grid_points is not None:
         gp = tuple(grid_points) if np.ndim(grid_points) else (grid_points, grid_points)
-        if len(gp) != 2 or any(isinstance(n, bool) or int(n) != n or n < MIN_POINTS_3D or n % 2
-                               for n in gp):
-            raise InputError(f"grid_points (3D) must be one even integer >= {MIN_POINTS_3D} or a "
-                             f"pair [nx, ny] of them; got {grid_points!r}")
+        ok = len(gp) == 2 and all(
+            isinstance(n, numbers.Real) and not isinstance(n, bool) and math.isfinite(n)
+            and float(n).is_integer() and MIN_POINTS_3D <= n <= MAX_POINTS_3D and n % 2 == 0
+            for n in gp)
+        if not ok:
+            raise InputError(f"grid_points (3D) must be one even integer in [{MIN_POINTS_3D}, "
+                             f"{MAX_POINTS_3D}] or a pair [nx, ny] of them; got {grid_points!r}")
         grid_points = tuple(int(n) for n in gp)
     if domain_length is not None:
         dl = tuple(domain_length) if np.ndim(domain_length) else (domain_length, domain_length)
@@ -203,7 +207,7 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     ex, ey = ind.extent_bound()
     if not (ex > 0 and ey > 0 and math.isfinite(ex) and math.isfinite(ey)):
         raise InputError(f"the indenter's contact extent bound ({ex:g}, {ey:g}) h is not usable")
-    L0 = domain_length or (4.0 * ex + margin, 4.0 * ey + margin)
+    L0 = (4.0 * ex + margin, 4.0 * ey + margin)  # the locator never uses a user period
     d0 = 2.0 * min(ex, ey) / _FIRST_ACROSS
     if grid_points:
         n0 = tuple(max(MIN_POINTS_3D, n // 4 // 2 * 2) for n in grid_points)
@@ -218,6 +222,16 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     # 2. the periods: the contact plus the decay margin, centred on the contact
     width_x = q["x_max"] - q["x_min"]
     width_y = q["y_max"] - q["y_min"]
+    if domain_length is not None:
+        # a user period must hold the contact plus the decay of its images to tol/2
+        free = math.log(2.0 / tol) / film.decay_rate
+        need = (width_x + free, width_y + free)
+        if any(L < n for L, n in zip(domain_length, need)):
+            raise InputError(
+                f"domain_length ({domain_length[0]:.4g}, {domain_length[1]:.4g}) h is too short "
+                f"for this contact at tol {tol:g}: the periods must hold the contact "
+                f"({width_x:.3g} x {width_y:.3g} h) plus {free:.3g} h for its images to decay "
+                f"below tol/2: at least ({need[0]:.4g}, {need[1]:.4g}) h, or leave it automatic")
     guard = 4.0 * max(sol.grid.spacing)
     L = domain_length or (width_x + margin + guard, width_y + margin + guard)
     center = (0.5 * (q["x_max"] + q["x_min"]), 0.0) if domain_length is None else (0.0, 0.0)
