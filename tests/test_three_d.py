@@ -183,6 +183,13 @@ def test_cli_each_indenter_json_maps_profiles(tmp_path, capsys, indenter, extra)
     ["solve", "--indenter", "sphere", "--length", "0.01"],
     ["solve", "--indenter", "sphere", "--model", "auto"],
     ["solve", "--maps", "x.npz"],
+    ["solve", "--indenter", "sphere", "--thickness", "1e308"],
+    ["solve", "--indenter", "sphere", "--force", "1e-300"],
+    ["solve", "--indenter", "sphere", "--young", "1e-300"],
+    ["solve", "--indenter", "sphere", "--domain-length", "0.01"],
+    ["solve", "--indenter", "sphere", "--grid-points", "31"],
+    ["solve", "--indenter", "sphere", "--maps", "/proc/x.npz"],
+    ["solve", "--indenter", "sphere", "--plot", "p.png", "--maps", "p.png"],
 ])
 def test_cli_bad_3d_input_exits_2(argv, capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
