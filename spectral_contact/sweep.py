@@ -299,10 +299,12 @@ def solve_row(params: dict) -> dict:
 
 
 # --- store --------------------------------------------------------------------------------------
-def _atomic_write(path: Path, write) -> None:
+def _atomic_write(path: Path, write, binary: bool = False) -> None:
+    """Write ``path`` whole or not at all: ``write(fh)`` into a temporary beside it, renamed."""
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name + ".", suffix=".tmp")
     try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
+        with (os.fdopen(fd, "wb") if binary else
+              os.fdopen(fd, "w", encoding="utf-8", newline="")) as fh:
             write(fh)
         os.replace(tmp, path)
     except BaseException:
@@ -370,17 +372,7 @@ class _Store:
 
 
 def _atomic_npz(path: Path, arrays: dict) -> None:
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name + ".", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            np.savez_compressed(fh, **arrays)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+    _atomic_write(path, lambda fh: np.savez_compressed(fh, **arrays), binary=True)
 
 
 def _write_profiles(fh, prof: dict) -> None:

@@ -156,25 +156,13 @@ def write_csv(path, columns: dict, header_comment: str | None = None) -> Path:
     return path
 
 
-def _finite_or_none(v):
-    if isinstance(v, float) and not math.isfinite(v):
-        return None
-    if isinstance(v, dict):
-        return {k: _finite_or_none(x) for k, x in v.items()}
-    if isinstance(v, (list, tuple)):
-        return [_finite_or_none(x) for x in v]
-    return v
-
-
 def to_json(record: dict) -> str:
     """Strict JSON: a non-finite number (none is expected) becomes null, never NaN."""
-    return json.dumps(_finite_or_none(record), indent=2, sort_keys=False, allow_nan=False)
+    return json.dumps(json_ready(record), indent=2, sort_keys=False, allow_nan=False)
 
 
 def json_ready(v):
     """``v`` with every non-finite float replaced by None (JSON has no NaN or Infinity)."""
-    import math
-
     if isinstance(v, float) and not math.isfinite(v):
         return None
     if isinstance(v, dict):

@@ -115,16 +115,21 @@ class Film:
         ~tol/100 (times an amplitude of order 1): the guard a periodic grid needs."""
         return math.log(100.0 / tol) / self.decay_rate
 
-    def surface_compliance(self, direction, kmag, mu: float = 0.0, slide=(1.0, 0.0)):
-        """H(k) = [F0 + i mu (e . n) F1] / (2|k|) (at k = 0: ``uniform_compliance``, 0 at
-        nu = 1/2), e = ``slide`` (unit vector,
-        the sliding direction: the friction drags the surface along +e for mu > 0)."""
-        kmag = np.asarray(kmag, dtype=float)
+    def _F0_F1(self, kmag):
+        """F0, F1 at K = |k| h (the incompressible ones at nu = 1/2, bit for bit)."""
         K = kmag * self.thickness
         if self.incompressible:
             F0, F1, *_ = transfer_functions(K)
         else:
             F0, F1, *_ = compressible_transfer_functions(K, self.poisson)
+        return F0, F1
+
+    def surface_compliance(self, direction, kmag, mu: float = 0.0, slide=(1.0, 0.0)):
+        """H(k) = [F0 + i mu (e . n) F1] / (2|k|) (at k = 0: ``uniform_compliance``, 0 at
+        nu = 1/2), e = ``slide`` (unit vector,
+        the sliding direction: the friction drags the surface along +e for mu > 0)."""
+        kmag = np.asarray(kmag, dtype=float)
+        F0, F1 = self._F0_F1(kmag)
         e_n = sum(e * n for e, n in zip(slide, direction))
         safe = np.where(kmag > 0, kmag, 1.0)
         H = (F0 + 1j * mu * e_n * F1) / (2.0 * safe)
@@ -135,11 +140,7 @@ class Film:
         k = 0, so that w^ = surface_compliance(mu = 0) p^ + shear_compliance q^ for any shear
         field q along e (Amontons: q = mu p gives back ``surface_compliance(mu)``)."""
         kmag = np.asarray(kmag, dtype=float)
-        K = kmag * self.thickness
-        if self.incompressible:
-            _, F1, *_ = transfer_functions(K)
-        else:
-            _, F1, *_ = compressible_transfer_functions(K, self.poisson)
+        _, F1 = self._F0_F1(kmag)
         e_n = sum(e * n for e, n in zip(slide, direction))
         safe = np.where(kmag > 0, kmag, 1.0)
         return np.where(kmag > 0, 1j * e_n * F1 / (2.0 * safe), 0.0)
