@@ -51,3 +51,27 @@ def test_paper_figures_local_cluster_tables_are_bit_identical(tmp_path):
     assert len(names) == 5
     for name in names:
         assert (a / name).read_bytes() == (b / name).read_bytes(), name
+
+
+def test_cli_study_passes_the_engine_options(tmp_path, monkeypatch):
+    from spectral_contact.cli.main import main
+
+    seen = []
+    monkeypatch.setattr(paper_figures, "main", lambda argv: seen.append(argv) or 0)
+    assert main(["study", "paper_figures", "--quick", "--serial", "--out", str(tmp_path)]) == 0
+    assert main(["study", "paper_figures", "--workers", "2", "--out", str(tmp_path)]) == 0
+    assert seen == [["--quick", "--out", str(tmp_path), "--serial"],
+                    ["--out", str(tmp_path), "--workers", "2"]]
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["study", "benchmark", "--quick", "--workers", "2"], "takes no --workers"),
+    (["study", "paper_figures", "--quick", "--workers", "0"], "--workers must be >= 1"),
+])
+def test_cli_study_bad_engine_options_exit_2(argv, words, tmp_path, capsys):
+    from spectral_contact.cli.main import main
+
+    assert main(argv + ["--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and words in err[0]
+    assert not (tmp_path / "o").exists()
