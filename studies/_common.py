@@ -23,9 +23,33 @@ def parse(argv, description: str, default_out: str, engine: bool = False):
                             "without dask.distributed)")
         g.add_argument("--serial", action="store_true", help="run every point in this process")
     args = p.parse_args(argv)
+    if engine and args.workers is not None and args.workers < 1:
+        print(f"--workers must be >= 1; got {args.workers}", file=sys.stderr)
+        raise SystemExit(2)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     return args, out
+
+
+def run_points(args, module: str, func: str, items, unit: str) -> list:
+    """``[module.func(item) for item in items]`` through ``spectral_contact.sweep.map_tasks``
+    (its progress bar on stderr), in the order of ``items``.
+
+    The engine: --serial, or --quick without --workers, runs in this process (a LocalCluster's
+    start-up would cost more than a quick study's solves, and keeps the test suite fast);
+    otherwise a dask LocalCluster of --workers processes (default the cores; in this process
+    without dask.distributed).  The function is looked up in the importable module (pickled by
+    reference, also when the study runs as ``python -m studies.NAME``, i.e. as __main__); the
+    results do not depend on the engine (each point is one deterministic function call).
+    """
+    import importlib
+
+    from spectral_contact.sweep import map_tasks
+
+    fn = getattr(importlib.import_module(module), func)
+    serial = args.serial or (args.quick and args.workers is None)
+    return map_tasks(fn, list(items), engine="serial" if serial else "auto",
+                     workers=args.workers, unit=unit)
 
 
 def progress(i: int, n: int, label: str, t0: float) -> None:

@@ -2,7 +2,7 @@
 pressure-dependent friction move the base profiles and their sensor view; and Goodman's error
 against nu, a/h and mu_d (issue 14).
 
-    python -m studies.beyond_amontons [--quick] [--out DIR]
+    python -m studies.beyond_amontons [--quick] [--out DIR] [--workers N | --serial]
 
 A. Refinements at four operating points spanning the paper's measured range (P_L from 20 to
    220 N/m while mu_d falls from 2.6 to 2.0; the two intermediate points, 60 N/m / 2.4 and
@@ -30,12 +30,15 @@ B. Goodman's error against the exact model, max |diff| / max |exact| of the base
    introduction's three claims (Goodman better at higher nu, smaller a/h, lower mu_d).
 
 Writes beyond_amontons.csv (A), beyond_amontons_goodman.csv (B) and beyond_amontons.png.
+The operating points of A and the scenes of B run as tasks of ``spectral_contact.sweep.map_tasks``
+(studies/_common.run_points: a dask LocalCluster of --workers processes, default the cores; in
+this process with --serial, with --quick unless --workers is given, or without
+dask.distributed); the tables do not depend on it.
 """
 from __future__ import annotations
 
 import math
 import sys
-import time
 
 import numpy as np
 
@@ -43,7 +46,7 @@ from spectral_contact import Scene, solve
 from spectral_contact.instruments.compare import fit_load_mu
 from spectral_contact.instruments.sensor import sensor_view
 
-from ._common import parse, progress, table
+from ._common import parse, run_points, table
 
 OPERATING = [(20.0, 2.6), (60.0, 2.4), (130.0, 2.2), (220.0, 2.0)]
 N_PAPER = math.log(1.5 / 1.36) / math.log(2.75 / 0.34)
@@ -86,31 +89,29 @@ def refinements(load, mu, tol, quick):
     return ref, p_mean, out
 
 
-def part_a(tol, quick, t0):
-    rows, curves = [], {}
-    for i, (load, mu) in enumerate(OPERATING, 1):
-        ref, p_mean, cases = refinements(load, mu, tol, quick)
-        x = ref.x_m
-        Rzz, Rxz = _view_on(ref, x)
-        curves[(load, "paper's exact model")] = (x, Rzz, Rxz)
-        for label, change in cases:
-            r = solve(ref.scene.with_(**change), tol=tol)
-            Szz, Sxz = _view_on(r, x)
-            curves[(load, label)] = (x, Szz, Sxz)
-            # the paper's model fitted to the refinement's view (P_L, mu_d, offset)
-            win = np.abs(x - ref.contact_center_m) < 8e-3
-            fit = fit_load_mu(x[win], Szz[win], Sxz[win], ref.scene, 0.0, tol=tol)
-            rows.append({"load_N_per_m": load, "mu_d": mu, "refinement": label,
-                         "a_mm": r.half_width_m * 1e3, "a_ref_mm": ref.half_width_m * 1e3,
-                         "center_mm": r.contact_center_m * 1e3,
-                         "center_ref_mm": ref.contact_center_m * 1e3, "Q_over_P": r.friction_ratio,
-                         "p_mean_kPa": p_mean * 1e-3,
-                         "chi_zz": _chi(Rzz, Szz), "chi_xz": _chi(Rxz, Sxz),
-                         "fit_load_N_per_m": fit["load_N_per_m"], "fit_mu": fit["mu"],
-                         "fit_offset_mm": fit["offset_m"] * 1e3,
-                         "chi_zz_fit": fit["chi_zz"], "chi_xz_fit": fit["chi_xz"]})
-        progress(i, len(OPERATING), f"P_L = {load:g} N/m", t0)
-    return rows, curves
+def operating_point(load, mu, tol, quick):
+    """Part A's rows at one operating point (P_L [N/m], mu_d): every refinement against the
+    paper's exact model."""
+    rows = []
+    ref, p_mean, cases = refinements(load, mu, tol, quick)
+    x = ref.x_m
+    Rzz, Rxz = _view_on(ref, x)
+    for label, change in cases:
+        r = solve(ref.scene.with_(**change), tol=tol)
+        Szz, Sxz = _view_on(r, x)
+        # the paper's model fitted to the refinement's view (P_L, mu_d, offset)
+        win = np.abs(x - ref.contact_center_m) < 8e-3
+        fit = fit_load_mu(x[win], Szz[win], Sxz[win], ref.scene, 0.0, tol=tol)
+        rows.append({"load_N_per_m": load, "mu_d": mu, "refinement": label,
+                     "a_mm": r.half_width_m * 1e3, "a_ref_mm": ref.half_width_m * 1e3,
+                     "center_mm": r.contact_center_m * 1e3,
+                     "center_ref_mm": ref.contact_center_m * 1e3, "Q_over_P": r.friction_ratio,
+                     "p_mean_kPa": p_mean * 1e-3,
+                     "chi_zz": _chi(Rzz, Szz), "chi_xz": _chi(Rxz, Sxz),
+                     "fit_load_N_per_m": fit["load_N_per_m"], "fit_mu": fit["mu"],
+                     "fit_offset_mm": fit["offset_m"] * 1e3,
+                     "chi_zz_fit": fit["chi_zz"], "chi_xz_fit": fit["chi_xz"]})
+    return rows
 
 
 def _goodman_error(scene, tol):
@@ -124,24 +125,29 @@ def _goodman_error(scene, tol):
     return float(max(ez, exz)), float(ez), float(exz)
 
 
-def part_b(tol, quick, t0):
+def part_b_points(quick):
+    """Part B's (nu, s = Hertz half-width / h at nu = 1/2, mu_d), in the table's order."""
     NU = (0.3, 0.4, 0.5) if quick else (0.0, 0.2, 0.3, 0.4, 0.45, 0.49, 0.5)
     S = (0.3, 1.0) if quick else (0.1, 0.3, 0.6, 1.0, 2.0)
     MU = (0.5, 2.0) if quick else (0.3, 1.0, 2.0, 3.0)
-    rows = []
+    return [(nu, s, mu) for nu in NU for s in S for mu in MU]
+
+
+def goodman_point(nu, s, mu, tol):
+    """Part B's row of (nu, s, mu_d): Goodman's error against the exact model."""
     base = Scene()
-    n, i = len(NU) * len(S) * len(MU), 0
-    for nu in NU:
-        for s in S:
-            P = 2 * math.pi * s * s  # Hertz half-width s h at nu = 1/2 (same load for every nu)
-            for mu in MU:
-                sc = base.with_(load=P * base.stress_unit * base.length_unit, mu=mu, poisson=nu)
-                e, ez, exz = _goodman_error(sc, tol)
-                rows.append({"nu": nu, "a_hertz_over_h": s, "mu_d": mu, "goodman_error": e,
-                             "error_zz": ez, "error_xz": exz})
-                i += 1
-        progress(i, n, f"nu = {nu:g}", t0)
-    return rows
+    P = 2 * math.pi * s * s  # Hertz half-width s h at nu = 1/2 (same load for every nu)
+    sc = base.with_(load=P * base.stress_unit * base.length_unit, mu=mu, poisson=nu)
+    e, ez, exz = _goodman_error(sc, tol)
+    return {"nu": nu, "a_hertz_over_h": s, "mu_d": mu, "goodman_error": e,
+            "error_zz": ez, "error_xz": exz}
+
+
+def point(task):
+    """A task of the sweep engine: ("a", load, mu, tol, quick) -> operating_point's rows;
+    ("b", nu, s, mu, tol) -> goodman_point's row."""
+    kind, *a = task
+    return operating_point(*a) if kind == "a" else goodman_point(*a)
 
 
 def claims(rows_b) -> str:
@@ -202,13 +208,17 @@ def _plot(rows_a, rows_b, path):
 
 
 def main(argv=None) -> int:
-    args, out = parse(argv, __doc__.splitlines()[0], "out/beyond_amontons")
+    args, out = parse(argv, __doc__.splitlines()[0], "out/beyond_amontons", engine=True)
     tol = 1e-3 if args.quick else 1e-4
-    t0 = time.perf_counter()
-    rows_a, _ = part_a(tol, args.quick, t0)
+    # every operating point of A and every scene of B, one task each, on the sweep engine
+    pts_b = part_b_points(args.quick)
+    res = run_points(args, "studies.beyond_amontons", "point",
+                     [("a", load, mu, tol, args.quick) for load, mu in OPERATING]
+                     + [("b", nu, s, mu, tol) for nu, s, mu in pts_b], "points")
+    rows_a = [row for rows in res[:len(OPERATING)] for row in rows]
+    rows_b = res[len(OPERATING):]
     table(rows_a, out / "beyond_amontons.csv",
           "A. Refinements against the paper's exact model (sensor view, no refit)")
-    rows_b = part_b(tol, args.quick, t0)
     table(rows_b, out / "beyond_amontons_goodman.csv", "B. Goodman's error against nu, a/h, mu_d")
     _plot(rows_a, rows_b, out / "beyond_amontons.png")
     big = [r for r in rows_a if max(r["chi_zz"], r["chi_xz"]) >= 0.08]

@@ -1,6 +1,6 @@
 """Error estimate against the true error: how far the FFT solver's error_estimate is from it.
 
-    python -m studies.error_estimate [--quick] [--out DIR]
+    python -m studies.error_estimate [--quick] [--out DIR] [--workers N | --serial]
 
 Scenes: a_Hertz/h = s in [0.05, 3] (10 values, log-spaced) x mu_d in {0, 0.5, 2, 5, 10}, each
 solved by the FFT method at tol 1e-3, 1e-4 and 1e-5 (the automatic resolution).  The true error
@@ -8,6 +8,11 @@ is measured against the Abel method at 48 nodes (spectral; checked against 64 no
 scene), with the solver's own metric: the largest of |da|/a, |dx_c|/a, |dd|/d, |dp_max|/p_max.
 ratio = error_estimate / true error (> 1: the estimate is conservative).  Writes
 error_estimate.csv and error_estimate.png.  --quick: 3 x 2 scenes at tol 1e-3.
+
+The scenes run as tasks of ``spectral_contact.sweep.map_tasks`` (studies/_common.run_points: a
+dask LocalCluster of --workers processes, default the cores; in this process with --serial, with
+--quick unless --workers is given, or without dask.distributed); the table does not depend on it
+but for time_s, the solve's wall time on its worker (inflated when workers share cores).
 """
 from __future__ import annotations
 
@@ -19,7 +24,7 @@ import numpy as np
 
 from spectral_contact import PAPER_SCENE, solve
 
-from ._common import parse, progress, table
+from ._common import parse, run_points, table
 
 REF_NODES, CHECK_NODES = 48, 64
 
@@ -38,37 +43,43 @@ def difference(q, r) -> float:
                abs(q.max_pressure - r.max_pressure) / r.max_pressure)
 
 
+def scene_point(point) -> list[dict]:
+    """The rows of one scene (s, mu, tols): the Abel reference (and its check), then the FFT
+    solve at each tol; a task of the sweep engine."""
+    s, mu, tols = point
+    rows = []
+    scene = scene_for(s, mu)
+    ref = solve(scene, method="abel", grid_points=REF_NODES)
+    ref_check = difference(solve(scene, method="abel", grid_points=CHECK_NODES), ref)
+    for tol in tols:
+        t = time.perf_counter()
+        try:
+            r = solve(scene, tol=tol)
+        except Exception as exc:  # a failure is a finding: keep the row
+            rows.append({"s": s, "mu": mu, "tol": tol, "a_over_h": ref.half_width,
+                         "status": f"fail: {type(exc).__name__}", "N": 0,
+                         "error_estimate": float("nan"), "true_error": float("nan"),
+                         "ratio": float("nan"), "ref_check": ref_check,
+                         "time_s": time.perf_counter() - t})
+            continue
+        true = difference(r, ref)
+        rows.append({"s": s, "mu": mu, "tol": tol, "a_over_h": ref.half_width, "status": "ok",
+                     "N": r.grid_points, "error_estimate": r.error_estimate, "true_error": true,
+                     "ratio": r.error_estimate / true if true > 0 else float("inf"),
+                     "ref_check": ref_check, "time_s": time.perf_counter() - t})
+    return rows
+
+
 def main(argv=None) -> int:
-    args, out = parse(argv, __doc__.splitlines()[0], "out/error_estimate")
+    args, out = parse(argv, __doc__.splitlines()[0], "out/error_estimate", engine=True)
     if args.quick:
         S, MU, TOLS = [0.05, 0.5, 3.0], [0.0, 2.0], [1e-3]
     else:
         S = [float(v) for v in np.geomspace(0.05, 3.0, 10)]
         MU, TOLS = [0.0, 0.5, 2.0, 5.0, 10.0], [1e-3, 1e-4, 1e-5]
-    rows = []
-    t0 = time.perf_counter()
-    scenes = [(s, mu) for mu in MU for s in S]
-    for i, (s, mu) in enumerate(scenes, 1):
-        scene = scene_for(s, mu)
-        ref = solve(scene, method="abel", grid_points=REF_NODES)
-        ref_check = difference(solve(scene, method="abel", grid_points=CHECK_NODES), ref)
-        for tol in TOLS:
-            t = time.perf_counter()
-            try:
-                r = solve(scene, tol=tol)
-            except Exception as exc:  # a failure is a finding: keep the row
-                rows.append({"s": s, "mu": mu, "tol": tol, "a_over_h": ref.half_width,
-                             "status": f"fail: {type(exc).__name__}", "N": 0,
-                             "error_estimate": float("nan"), "true_error": float("nan"),
-                             "ratio": float("nan"), "ref_check": ref_check,
-                             "time_s": time.perf_counter() - t})
-                continue
-            true = difference(r, ref)
-            rows.append({"s": s, "mu": mu, "tol": tol, "a_over_h": ref.half_width, "status": "ok",
-                         "N": r.grid_points, "error_estimate": r.error_estimate, "true_error": true,
-                         "ratio": r.error_estimate / true if true > 0 else float("inf"),
-                         "ref_check": ref_check, "time_s": time.perf_counter() - t})
-        progress(i, len(scenes), f"s = {s:.3g}, mu_d = {mu:g}", t0)
+    rows = [row for rows_s in run_points(args, "studies.error_estimate", "scene_point",
+                                          [(s, mu, TOLS) for mu in MU for s in S], "scenes")
+            for row in rows_s]
     table(rows, out / "error_estimate.csv",
           f"FFT error_estimate vs true error (reference: Abel at {REF_NODES} nodes; ref_check = "
           f"its difference from {CHECK_NODES} nodes); s = a_Hertz/h, a_over_h = the film's a/h")

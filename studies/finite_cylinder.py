@@ -1,6 +1,6 @@
 """The paper's experiment in 3D: an 8 mm cover slide on a 129.2 mm lens sliding on the film.
 
-    python -m studies.finite_cylinder [--quick] [--out DIR]
+    python -m studies.finite_cylinder [--quick] [--out DIR] [--workers N | --serial]
 
 The paper measured P and Q/P but had to take P_L = Int S_zz dx and mu_d = Int S_xz dx /
 Int S_zz dx from the sensor's profiles at y = 0, because the slide's sharp ends change the load
@@ -18,19 +18,22 @@ between the two reported values interpolated linearly in ln P: an assumption), a
   (max |difference| / max |3D|).
 
 Nothing is adjusted to match.  Writes finite_cylinder.csv and finite_cylinder.png.
+
+The loads run as tasks of ``spectral_contact.sweep.map_tasks`` (studies/_common.run_points: a dask
+LocalCluster of --workers processes, default the cores; in this process with --serial, with
+--quick unless --workers is given, or without dask.distributed); the table does not depend on it.
 """
 from __future__ import annotations
 
 import math
 import sys
-import time
 
 import numpy as np
 
 from spectral_contact import solve
 from spectral_contact.instruments.sensor import sensor_maps
 
-from ._common import parse, progress, table
+from ._common import parse, run_points, table
 
 LENS_RADIUS = 0.1292      # m, the plano-convex lens
 LENGTH = 0.008            # m, the cover slide along y
@@ -52,52 +55,59 @@ def _line(r, field):
     return field[:, j]
 
 
+def cylinder_point(point):
+    """One load (P [N], tol): the sliding and static 3D solves, the sensor, the 2D comparisons;
+    (table row, y = 0 profiles for the figure).  A task of the sweep engine."""
+    P, tol = point
+    mu = q_over_p(P)
+    common = dict(indenter="cylinder", force=P, radius=LENS_RADIUS, length=LENGTH, tol=tol,
+                  **FILM)
+    r = solve(mu=mu, **common)
+    static = solve(mu=0.0, **common)
+    S = sensor_maps(r)
+    dx = (r.x[1] - r.x[0]) * r.scene.length_unit
+    m = r.maps()
+    szz0, sxz0 = _line(r, m["base_sigma_zz_Pa"]), _line(r, m["base_sigma_xz_Pa"])
+    Szz0, Sxz0 = _line(r, S["S_zz_Pa"]), _line(r, S["S_xz_Pa"])
+    line_load = r.summary()["line_load_y0_N_per_m"]
+    # 2D model at P/L and at the y = 0 line load: y = 0 base profiles compared on the 3D x
+    x_m = r.x * r.scene.length_unit
+    diffs = {}
+    for name, PL in (("P_over_L", P / LENGTH), ("line_load_y0", line_load)):
+        two = solve(load=PL, mu=mu, radius=LENS_RADIUS, tol=1e-4, **FILM)
+        zz = np.interp(x_m, two.x_m, two.base_sigma_zz_Pa)
+        diffs[name] = float(np.max(np.abs(zz - szz0)) / np.max(np.abs(szz0)))
+        if name == "line_load_y0":
+            line = (P, x_m, szz0, sxz0, Szz0, Sxz0, two, zz)
+    j = int(np.argmin(np.abs(static.y)))
+    sq = static.pressure[:, j] > 0
+    xs = static.x[sq]
+    width_static = (xs.max() - xs.min() + (static.x[1] - static.x[0])) * static.scene.length_unit
+    row = {
+        "P_N": P, "mu_Q_over_P": mu, "P_over_L_N_per_m": P / LENGTH,
+        "line_load_y0_N_per_m": line_load,
+        "base_ratio_y0": float(sxz0.sum() / -szz0.sum()),
+        "sensor_Szz_integral_N_per_m": float(Szz0.sum() * dx),
+        "sensor_ratio_y0": float(Sxz0.sum() / Szz0.sum()),
+        "static_width_y0_mm": 1e3 * width_static,
+        "paper_FE_width_mm": FE_WIDTHS_MM.get(P, float("nan")),
+        "contact_y_half_width_mm": 1e3 * r.summary()["contact_y_half_width_m"],
+        "max_diff_2D_at_P_over_L": diffs["P_over_L"],
+        "max_diff_2D_at_line_load": diffs["line_load_y0"],
+        "error_estimate": r.error_estimate,
+        "grid": f"{r.grid_points[0]}x{r.grid_points[1]}",
+    }
+    return row, line
+
+
 def main(argv=None) -> int:
-    args, out = parse(argv, __doc__.splitlines()[0], "out/finite_cylinder")
+    args, out = parse(argv, __doc__.splitlines()[0], "out/finite_cylinder", engine=True)
     loads = (0.34, 2.75) if args.quick else LOADS
     tol = 3e-2 if args.quick else 1e-2
-    t0 = time.perf_counter()
-    rows, lines = [], []
-    for i, P in enumerate(loads, 1):
-        mu = q_over_p(P)
-        progress(i, len(loads), f"P = {P} N, mu = Q/P = {mu:.3f}", t0)
-        common = dict(indenter="cylinder", force=P, radius=LENS_RADIUS, length=LENGTH, tol=tol,
-                      **FILM)
-        r = solve(mu=mu, **common)
-        static = solve(mu=0.0, **common)
-        S = sensor_maps(r)
-        dx = (r.x[1] - r.x[0]) * r.scene.length_unit
-        m = r.maps()
-        szz0, sxz0 = _line(r, m["base_sigma_zz_Pa"]), _line(r, m["base_sigma_xz_Pa"])
-        Szz0, Sxz0 = _line(r, S["S_zz_Pa"]), _line(r, S["S_xz_Pa"])
-        line_load = r.summary()["line_load_y0_N_per_m"]
-        # 2D model at P/L and at the y = 0 line load: y = 0 base profiles compared on the 3D x
-        x_m = r.x * r.scene.length_unit
-        diffs = {}
-        for name, PL in (("P_over_L", P / LENGTH), ("line_load_y0", line_load)):
-            two = solve(load=PL, mu=mu, radius=LENS_RADIUS, tol=1e-4, **FILM)
-            zz = np.interp(x_m, two.x_m, two.base_sigma_zz_Pa)
-            diffs[name] = float(np.max(np.abs(zz - szz0)) / np.max(np.abs(szz0)))
-            if name == "line_load_y0":
-                lines.append((P, x_m, szz0, sxz0, Szz0, Sxz0, two, zz))
-        j = int(np.argmin(np.abs(static.y)))
-        sq = static.pressure[:, j] > 0
-        xs = static.x[sq]
-        width_static = (xs.max() - xs.min() + (static.x[1] - static.x[0])) * static.scene.length_unit
-        rows.append({
-            "P_N": P, "mu_Q_over_P": mu, "P_over_L_N_per_m": P / LENGTH,
-            "line_load_y0_N_per_m": line_load,
-            "base_ratio_y0": float(sxz0.sum() / -szz0.sum()),
-            "sensor_Szz_integral_N_per_m": float(Szz0.sum() * dx),
-            "sensor_ratio_y0": float(Sxz0.sum() / Szz0.sum()),
-            "static_width_y0_mm": 1e3 * width_static,
-            "paper_FE_width_mm": FE_WIDTHS_MM.get(P, float("nan")),
-            "contact_y_half_width_mm": 1e3 * r.summary()["contact_y_half_width_m"],
-            "max_diff_2D_at_P_over_L": diffs["P_over_L"],
-            "max_diff_2D_at_line_load": diffs["line_load_y0"],
-            "error_estimate": r.error_estimate,
-            "grid": f"{r.grid_points[0]}x{r.grid_points[1]}",
-        })
+    pairs = run_points(args, "studies.finite_cylinder", "cylinder_point",
+                       [(P, tol) for P in loads], "loads")
+    rows = [row for row, _ in pairs]
+    lines = [line for _, line in pairs]
     table(rows, out / "finite_cylinder.csv",
           "finite cylinder (8 mm slide, R = 129.2 mm, E = 2.2 MPa, h = 2 mm), exact 3D model; "
           f"paper (sensor): P_L {PAPER_PL[0]:g} -> {PAPER_PL[1]:g} N/m, mu_d {PAPER_MU[0]} -> "

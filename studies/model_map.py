@@ -25,9 +25,10 @@ Goodman errors / |mu| (log least squares over points with 10 tol_ref < error < 0
 the bound is below 0.1 (so auto could pick the model) but below the measured error by more than
 the reference noise (2 x the reference tol).
 
-The s rows run as tasks of ``spectral_contact.sweep.map_tasks`` (a dask LocalCluster of --workers
-processes, default the cores; in this process with --serial or without dask.distributed): the
-tables are the same bit for bit either way.
+The s rows run as tasks of ``spectral_contact.sweep.map_tasks`` (studies/_common.run_points: a
+dask LocalCluster of --workers processes, default the cores; in this process with --serial, with
+--quick unless --workers is given, or without dask.distributed): the tables are the same bit for
+bit either way.
 
 Writes model_map.csv (every point, every error), model_map_fit.csv (fit vs stored vs measured)
 and model_map.png (contour maps with 1 %, 5 %, 10 % levels, measured solid / bound dashed, and
@@ -49,9 +50,8 @@ from spectral_contact.numerics.grid import Grid
 from spectral_contact.physics.film import base_stresses
 from spectral_contact.reference.hertz import hertz_base_stresses, hertz_film_sinking, hertz_half_width
 from spectral_contact.solvers import auto
-from spectral_contact.sweep import map_tasks
 
-from ._common import parse, table, write_rows
+from ._common import parse, run_points, table, write_rows
 
 METRICS = ("a", "c", "d", "pmax", "szz", "sxz")
 LEVELS = (0.01, 0.05, 0.10)
@@ -296,8 +296,6 @@ def _plot(rows, S, MU, fits, path):
 
 def main(argv=None) -> int:
     args, out = parse(argv, __doc__.splitlines()[0], "out/model_map", engine=True)
-    if args.workers is not None and args.workers < 1:
-        raise SystemExit(f"--workers must be >= 1; got {args.workers}")
     if args.quick:
         S = [float(v) for v in np.geomspace(0.05, 10, 6)]
         MU = [0.0, 0.1, 0.5, 1.0, 2.0, 5.0]
@@ -309,12 +307,8 @@ def main(argv=None) -> int:
     t0 = time.perf_counter()
     # one task per s (its Goodman solve serves every mu) on the sweep engine; the first also
     # checks the Goodman reconstruction against the solver's Goodman model
-    import importlib
-
-    task = importlib.import_module("studies.model_map").measure_s  # by reference, not __main__
     tasks = [(s, MU, tol_ref, i == 0) for i, s in enumerate(S)]
-    results = map_tasks(task, tasks, engine="serial" if args.serial else "auto",
-                        workers=args.workers, unit="s rows")
+    results = run_points(args, "studies.model_map", "measure_s", tasks, "s rows")
     rows = [r for rs, _ in results for r in rs]
     goodman_check = results[0][1]
     cols = ["s", "mu", "a_exact", "H_a", "H_pmax", "H_szz", "H_sxz", "H_max",

@@ -1,6 +1,6 @@
 """The paper's model figures from our solver: exact (solid) against Goodman (dashed).
 
-    python -m studies.paper_figures [--quick] [--out DIR]
+    python -m studies.paper_figures [--quick] [--out DIR] [--workers N | --serial]
 
 Figures (Scheibert et al. 2009, "Discussion"), E = 2.2 MPa, R = 130 mm, h = 2 mm:
   surface_mu.png    surface pressure, mu_d = 0.3 ... 3.0 (step 0.3) at P_L = 200 N/m
@@ -9,17 +9,20 @@ Figures (Scheibert et al. 2009, "Discussion"), E = 2.2 MPa, R = 130 mm, h = 2 mm
   base_load.png     base sigma_zz and sigma_xz, P_L = 20 ... 380 N/m (step 80) at mu_d = 2.0
   mems_*.png        the base profiles seen through the MEMS apparatus functions (S_zz, S_xz)
 CSV: profiles_*.csv (long format) and widths.csv (contact widths, ours beside the caption's).
+
+The scenes run as tasks of ``spectral_contact.sweep.map_tasks`` (studies/_common.run_points: a
+dask LocalCluster of --workers processes, default the cores; in this process with --serial, with
+--quick unless --workers is given, or without dask.distributed); the files do not depend on it.
 """
 from __future__ import annotations
 
 import sys
-import time
 
 import numpy as np
 
 from spectral_contact import Scene, solve
 
-from ._common import parse, progress, table
+from ._common import parse, run_points, table
 
 # contact widths 2a [mm] quoted in the caption of the paper's surface-profile figure (b)
 CAPTION_WIDTHS_EXACT = [2.60, 3.40, 3.88, 4.24, 4.52, 4.80, 5.02, 5.24, 5.44, 5.62]
@@ -75,18 +78,22 @@ def _sensor(r):
     return sensor_view(r)
 
 
+def solve_pair(point) -> dict:
+    """One point of a figure, (kind, value, fixed, tol): the scene solved with both models
+    ({"exact": Result, "goodman": Result}); a task of the sweep engine."""
+    kind, v, fixed, tol = point
+    scene = Scene(mu=v, load=fixed) if kind == "mu" else Scene(load=v, mu=fixed)
+    return {m: solve(scene, model=m, tol=tol) for m in ("exact", "goodman")}
+
+
 def main(argv=None) -> int:
-    args, out = parse(argv, __doc__.splitlines()[0], "out/paper_figures")
+    args, out = parse(argv, __doc__.splitlines()[0], "out/paper_figures", engine=True)
     tol = 1e-3 if args.quick else 1e-4
     sweeps = _sweeps(args.quick)
-    t0 = time.perf_counter()
-    results = {}
     todo = [(name, v) for name, (_, vals, _) in sweeps.items() for v in vals]
-    for i, (name, v) in enumerate(todo, 1):
-        kind, _, fixed = sweeps[name]
-        scene = Scene(mu=v, load=fixed) if kind == "mu" else Scene(load=v, mu=fixed)
-        results[name, v] = {m: solve(scene, model=m, tol=tol) for m in ("exact", "goodman")}
-        progress(i, len(todo), f"{name} {kind} = {v:g}", t0)
+    pairs = run_points(args, "studies.paper_figures", "solve_pair",
+                       [(sweeps[name][0], v, sweeps[name][2], tol) for name, v in todo], "scenes")
+    results = dict(zip(todo, pairs))
 
     import matplotlib
 

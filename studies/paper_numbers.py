@@ -1,6 +1,6 @@
 """The paper's quoted contact sizes beside ours (FFT and Abel), and what could explain the gaps.
 
-    python -m studies.paper_numbers [--quick] [--out DIR]
+    python -m studies.paper_numbers [--quick] [--out DIR] [--workers N | --serial]
 
 Scheibert et al. (2009) quote, for E = 2.2 MPa, R = 130 mm, h = 2 mm:
   (a) surface-profile figure (b), mu_d = 2.0, P_L = 20, 60, ..., 380 N/m: contact widths
@@ -29,19 +29,23 @@ Checked (and reported, never used to change the model):
   * (c): the lineic load at which our 2D model gives the finite-element width, against P/L.
 Writes paper_numbers.csv, paper_numbers_interpretations.csv, paper_numbers_fits.csv,
 paper_numbers_slopes.csv, paper_numbers_static.csv and paper_numbers.png.
+
+Every solve (FFT and Abel of each scene) and the two width tables run as tasks of
+``spectral_contact.sweep.map_tasks`` (studies/_common.run_points: a dask LocalCluster of --workers
+processes, default the cores; in this process with --serial, with --quick unless --workers is
+given, or without dask.distributed); the tables do not depend on it.
 """
 from __future__ import annotations
 
 import math
 import sys
-import time
 
 import numpy as np
 
 from spectral_contact import Scene, solve
 from spectral_contact.solvers.abel import solve_abel
 
-from ._common import parse, progress, table
+from ._common import parse, run_points, table
 from .paper_figures import CAPTION_WIDTHS_EXACT, CAPTION_WIDTHS_GOODMAN
 
 LOADS = [20.0 + 40.0 * i for i in range(10)]
@@ -200,29 +204,45 @@ def _slopes(widths, loads):
     return out
 
 
+def point(task):
+    """A task of the sweep engine: ("ours", scene, model, fft_tol, npts) -> ours(...);
+    ("table", mu, n) -> WidthTable(mu, n)."""
+    if task[0] == "ours":
+        return ours(*task[1:])
+    return WidthTable(*task[1:])
+
+
 def main(argv=None) -> int:
-    args, out = parse(argv, __doc__.splitlines()[0], "out/paper_numbers")
+    args, out = parse(argv, __doc__.splitlines()[0], "out/paper_numbers", engine=True)
     quick = args.quick
     fft_tol = 1e-4 if quick else 1e-5
     npts = 801 if quick else 2001
     n_table = 18 if quick else 40
-    t0 = time.perf_counter()
-    n_steps = 2 * len(LOADS) + len(MUS) + 2 * len(STATIC_P_N) + 2
-    step = 0
-
-    def tick(label):
-        nonlocal step
-        step += 1
-        progress(step, n_steps, label, t0)
+    # every solve (the scenes of (a), (b), (c), mu = 0 at 200 N/m) and the two width tables, one
+    # task each, on the sweep engine
+    scenes_a = [(model, load, Scene(load=load, mu=2.0)) for model in ("exact", "goodman")
+                for load in LOADS]
+    scenes_b = [(mu, Scene(load=200.0, mu=mu)) for mu in MUS]
+    scenes_c = [(P, R, Scene(load=P / STATIC_L_M, mu=0.0, radius=R)) for P in STATIC_P_N
+                for R in (LENS_R_M, 0.130)]
+    tasks = ([("ours", sc, model, fft_tol, npts) for model, _, sc in scenes_a]
+             + [("ours", sc, "exact", fft_tol, npts) for _, sc in scenes_b]
+             + [("ours", Scene(load=200.0, mu=0.0), "exact", fft_tol, npts)]
+             + [("ours", sc, "exact", fft_tol, npts) for _, _, sc in scenes_c]
+             + [("table", mu, n_table) for mu in (2.0, 0.0)])
+    res = iter(run_points(args, "studies.paper_numbers", "point", tasks, "solves"))
+    res_a = {(model, load): next(res) for model, load, _ in scenes_a}
+    res_b = {mu: next(res) for mu, _ in scenes_b}
+    g200 = next(res)
+    res_c = {(P, R): next(res) for P, R, _ in scenes_c}
+    tabs = {mu: next(res) for mu in (2.0, 0.0)}
 
     rows, interp_rows = [], []
     # (a) the load sweep, exact and Goodman
-    res_a = {}
     for model, caption in (("exact", CAPTION_WIDTHS_EXACT), ("goodman", CAPTION_WIDTHS_GOODMAN)):
         for load, cap in zip(LOADS, caption):
             s = Scene(load=load, mu=2.0)
-            o = ours(s, model, fft_tol, npts)
-            res_a[model, load] = o
+            o = res_a[model, load]
             hz = hertz_width_mm(s)
             rows.append({"item": "a: caption width", "model": model, "load_N_per_m": load,
                          "mu": 2.0, "R_mm": 130.0, "quantity": "2a", "caption_mm": cap,
@@ -231,13 +251,10 @@ def main(argv=None) -> int:
                          "hertz_mm": hz, "caption_le_hertz": int(cap <= hz),
                          "ours_le_hertz": int(o["abel_2a"] <= hz and o["fft_2a"] <= hz),
                          "fft_abel_rel": o["fft_a_rel_diff"]})
-            tick(f"(a) {model} P_L = {load:g}: 2a = {o['abel_2a']:.3f} mm (caption {cap:.2f})")
     # (b) the friction sweep at 200 N/m
-    res_b = {}
     for mu in MUS:
         s = Scene(load=200.0, mu=mu)
-        o = ours(s, "exact", fft_tol, npts)
-        res_b[mu] = o
+        o = res_b[mu]
         hz = hertz_width_mm(s)
         rows.append({"item": "b: caption radius", "model": "exact", "load_N_per_m": 200.0,
                      "mu": mu, "R_mm": 130.0, "quantity": "a", "caption_mm": CAPTION_RADIUS,
@@ -247,15 +264,11 @@ def main(argv=None) -> int:
                      "caption_le_hertz": int(CAPTION_RADIUS <= hz / 2),
                      "ours_le_hertz": int(o["abel_a"] <= hz / 2 and o["fft_2a"] / 2 <= hz / 2),
                      "fft_abel_rel": o["fft_a_rel_diff"]})
-        tick(f"(b) mu = {mu:g}: a = {o['abel_a']:.3f} mm (caption {CAPTION_RADIUS} +/- 0.03)")
-    g200 = ours(Scene(load=200.0, mu=0.0), "exact", fft_tol, npts)
     # (c) the static figure: P/L with L = 8 mm, frictionless, lens radius and model radius
-    res_c = {}
     for P, cap in zip(STATIC_P_N, STATIC_WIDTHS):
         for R in (LENS_R_M, 0.130):
             s = Scene(load=P / STATIC_L_M, mu=0.0, radius=R)
-            o = ours(s, "exact", fft_tol, npts)
-            res_c[P, R] = o
+            o = res_c[P, R]
             hz = hertz_width_mm(s)
             rows.append({"item": "c: static FE width", "model": "frictionless",
                          "load_N_per_m": s.load, "mu": 0.0, "R_mm": 1e3 * R, "quantity": "2a",
@@ -264,12 +277,7 @@ def main(argv=None) -> int:
                          "hertz_mm": hz, "caption_le_hertz": int(cap <= hz),
                          "ours_le_hertz": int(o["abel_2a"] <= hz and o["fft_2a"] <= hz),
                          "fft_abel_rel": o["fft_a_rel_diff"]})
-            tick(f"(c) P = {P:g} N, R = {1e3 * R:g} mm: 2a = {o['abel_2a']:.3f} mm (FE {cap:.2f})")
-    # width tables for the fits (a/h against P, Abel)
-    tabs = {}
-    for mu in (2.0, 0.0):
-        tabs[mu] = WidthTable(mu, n_table)
-        tick(f"table of a/h against P, mu = {mu:g} ({n_table} Abel solves)")
+    # width tables for the fits (a/h against P, Abel): tabs, made above
     table_err = max(abs(tabs[2.0].width_mm(load) / res_a["exact", load]["abel_2a"] - 1)
                     for load in LOADS)
     table_err = max(table_err, max(abs(tabs[0.0].width_mm(load) / res_a["goodman", load]["abel_2a"] - 1)

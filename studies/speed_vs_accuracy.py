@@ -1,6 +1,6 @@
 """Speed against accuracy: the FFT solver and the Abel solver on the same scenes.
 
-    python -m studies.speed_vs_accuracy [--quick] [--out DIR]
+    python -m studies.speed_vs_accuracy [--quick] [--out DIR] [--workers N | --serial]
 
 Scenes (E = 2.2 MPa, R = 130 mm, h = 2 mm, mu_d = 2): the paper's (P_L = 200 N/m, a = 1.25 h)
 and a thin-film one (P_L = 1900 N/m, a = 3.04 h).
@@ -24,12 +24,19 @@ indentation d and p_max; "base" = max over sigma_zz(x, 0) and sigma_xz(x, 0) of
 max |diff| / max |ref| on the window x_c +- (a + 4 h) (FFT: on its own grid nodes there, so no
 interpolation enters).
 
+The accuracy of every run (one solve each, and the reference checks) runs as tasks of
+``spectral_contact.sweep.map_tasks`` (studies/_common.run_points: a dask LocalCluster of --workers
+processes, default the cores; in this process with --serial, with --quick unless --workers is
+given, or without dask.distributed); the errors do not depend on it.  The times are measured
+afterwards in this process, one run after the other (never concurrently, never on a worker).
+
 Writes speed_vs_accuracy.csv (every run), speed_vs_accuracy_winners.csv (fastest run of each
 method reaching a target error), speed_vs_accuracy_reference.csv and one chart per scene
 (speed_vs_accuracy_paper.png, speed_vs_accuracy_thin.png: scalar and base panels, log-log).
 """
 from __future__ import annotations
 
+import functools
 import math
 import statistics
 import sys
@@ -41,7 +48,7 @@ import numpy as np
 from spectral_contact import Scene, solve
 from spectral_contact.solvers.abel import abel_fields, solve_abel
 
-from ._common import parse, progress, table
+from ._common import parse, run_points, table
 
 SCENES = {"paper": Scene(load=200.0, mu=2.0), "thin": Scene(load=1900.0, mu=2.0)}
 REF_NODES, REF_CHECK_NODES = 48, 64
@@ -99,23 +106,70 @@ def _record(ref, scene_name, method, sweep, param, r, t, base_err, n_or_nodes, e
     return rec
 
 
-def _fft_run(ref, scene_name, sweep, param, repeats, **kw):
-    t, r = _median_time(lambda: solve(ref.scene, **kw), repeats)
-    lo, hi = ref.window
-    m = (r.x >= lo) & (r.x <= hi)
-    berr = ref.base_error(r.x[m], r.base_sigma_zz[m], r.base_sigma_xz[m])
-    return _record(ref, scene_name, "fft", sweep, param, r, t, berr, r.grid_points,
-                   {"domain_h": r.domain_length, "k_rule_points": 0, "warned": 0})
+@functools.cache
+def reference(scene_name: str) -> Reference:
+    """The Reference of SCENES[scene_name], made once per process (deterministic: every worker
+    makes the same one, bit for bit)."""
+    return Reference(SCENES[scene_name])
 
 
-def _abel_run(ref, scene_name, sweep, param, repeats, **kw):
+def _call(ref, kind, kw):
+    """The call a run times and measures: "fft" = solve, "abel" = solve_abel on the reference's
+    window, "scalars" = solve_abel with the profile at x_c only."""
+    if kind == "fft":
+        return lambda: solve(ref.scene, **kw)
+    if kind == "abel":
+        return lambda: solve_abel(ref.scene, x=ref.x, **kw)
+    return lambda: solve_abel(ref.scene, x=np.array([ref.c]), **kw)
+
+
+def accuracy_point(run) -> dict:
+    """A task of the sweep engine: ("check", scene) -> the reference row of the scene (Abel at
+    REF_CHECK_NODES against REF_NODES); (kind, scene, sweep, param, kw) -> the run's record, its
+    errors against the reference, without its time (median_ms NaN: timed later, serially)."""
+    if run[0] == "check":
+        name = run[1]
+        ref, scene = reference(name), SCENES[name]
+        check = abel_fields(scene, scene.mu, REF_CHECK_NODES)
+        ce = ref.scalar_errors(check.sol.a, -check.x0, check.inv_alpha, check.pmax)
+        cb = ref.base_error(ref.x, *check.sol.base_stresses(ref.x + check.x0, scene.mu),
+                            ref.szz, ref.sxz)
+        return {"scene": name, "load_N_per_m": scene.load, "mu": scene.mu,
+                "a_h": ref.a, "xc_h": ref.c, "indentation": ref.d, "pmax": ref.pmax,
+                f"abel{REF_CHECK_NODES}_scalar_diff": max(max(ce.values()), FLOOR),
+                f"abel{REF_CHECK_NODES}_base_diff": max(cb, FLOOR)}
+    kind, name, sweep, param, kw = run
+    ref = reference(name)
+    nan = float("nan")
+    if kind == "fft":
+        r = _call(ref, kind, kw)()
+        lo, hi = ref.window
+        m = (r.x >= lo) & (r.x <= hi)
+        berr = ref.base_error(r.x[m], r.base_sigma_zz[m], r.base_sigma_xz[m])
+        return _record(ref, name, "fft", sweep, param, r, nan, berr, r.grid_points,
+                       {"domain_h": r.domain_length, "k_rule_points": 0, "warned": 0})
     with warnings.catch_warnings(record=True) as w:
         warnings.simplefilter("always")
-        t, r = _median_time(lambda: solve_abel(ref.scene, x=ref.x, **kw), repeats)
-    berr = ref.base_error(ref.x, r.base_sigma_zz, r.base_sigma_xz, ref.szz, ref.sxz)
-    return _record(ref, scene_name, "abel", sweep, param, r, t, berr, r.info["n_nodes"],
-                   {"domain_h": float("nan"), "k_rule_points": r.info["kernel_quadrature_points"],
-                    "warned": int(len(w) > 0)})
+        r = _call(ref, kind, kw)()
+    if kind == "abel":
+        berr = ref.base_error(ref.x, r.base_sigma_zz, r.base_sigma_xz, ref.szz, ref.sxz)
+        warned = int(len(w) > 0)
+    else:  # the Abel cost without base stresses (profile at one point): scalars only
+        berr, warned = nan, 0
+    return _record(ref, name, "abel", sweep, param, r, nan, berr, r.info["n_nodes"],
+                   {"domain_h": nan, "k_rule_points": r.info["kernel_quadrature_points"],
+                    "warned": warned})
+
+
+def time_runs(runs, repeats: int) -> list[float]:
+    """Median wall time [s] of ``repeats`` warm calls (one untimed call first) of each run, one
+    run after the other in this process: timings never run concurrently."""
+    ts = []
+    for kind, name, _sweep, _param, kw in runs:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            ts.append(_median_time(_call(reference(name), kind, kw), repeats)[0])
+    return ts
 
 
 def _winners(rows, scene_name, err_key, pool):
@@ -147,7 +201,7 @@ def _winners(rows, scene_name, err_key, pool):
 
 
 def main(argv=None) -> int:
-    args, out = parse(argv, __doc__.splitlines()[0], "out/speed_vs_accuracy")
+    args, out = parse(argv, __doc__.splitlines()[0], "out/speed_vs_accuracy", engine=True)
     quick = args.quick
     repeats = 1 if quick else 5  # --quick checks the errors, not the times
     fft_tols = [1e-2, 1e-3, 1e-4, 1e-5] if quick else [1e-2, 1e-3, 1e-4, 1e-5, 1e-6]
@@ -155,56 +209,31 @@ def main(argv=None) -> int:
     exps = range(8, 13) if quick else range(8, 18)
     nodes = [6, 8, 12, 16, 24] if quick else [6, 8, 10, 12, 14, 16, 20, 24]
     abel_tols = [1e-2, 1e-4, 1e-6] if quick else [1e-2, 1e-3, 1e-4, 1e-6, 1e-8]
-    t0 = time.perf_counter()
-    rows, refrows, winners = [], [], []
-    n_steps = len(SCENES) * (len(fft_tols) + len(exps) + len(nodes) + len(abel_tols) + 2)
-    step = 0
-
-    def tick(label):
-        nonlocal step
-        step += 1
-        progress(step, n_steps, label, t0)
-
+    runs = []
     for name, scene in SCENES.items():
-        ref = Reference(scene)
-        check = abel_fields(scene, scene.mu, REF_CHECK_NODES)
-        ce = ref.scalar_errors(check.sol.a, -check.x0, check.inv_alpha, check.pmax)
-        cb = ref.base_error(ref.x, *check.sol.base_stresses(ref.x + check.x0, scene.mu),
-                            ref.szz, ref.sxz)
-        tick(f"{name}: reference (Abel {REF_NODES} nodes, a = {ref.a:.4f} h)")
-        for tol in fft_tols:
-            rows.append(_fft_run(ref, name, "fft tol", f"{tol:.0e}", repeats, tol=tol))
-            tick(f"{name}: fft tol {tol:.0e}: err {rows[-1]['err_scalar']:.1e}, "
-                 f"{rows[-1]['median_ms']:.1f} ms")
-        fft_check = next(r for r in rows if r["scene"] == name and r["param"] == f"{ref_tol:.0e}")
-        refrows.append({"scene": name, "load_N_per_m": scene.load, "mu": scene.mu,
-                        "a_h": ref.a, "xc_h": ref.c, "indentation": ref.d, "pmax": ref.pmax,
-                        f"abel{REF_CHECK_NODES}_scalar_diff": max(max(ce.values()), FLOOR),
-                        f"abel{REF_CHECK_NODES}_base_diff": max(cb, FLOOR),
-                        "fft_check_tol": ref_tol, "fft_scalar_diff": fft_check["err_scalar"],
+        L_m = solve(scene, tol=1e-4).domain_length * scene.length_unit
+        runs += [("fft", name, "fft tol", f"{tol:.0e}", {"tol": tol}) for tol in fft_tols]
+        runs += [("fft", name, "fft fixed N", f"2^{e}", {"grid_points": 2**e, "domain_length": L_m})
+                 for e in exps]
+        runs += [("abel", name, "abel nodes", str(n), {"n_nodes": n}) for n in nodes]
+        runs += [("abel", name, "abel tol", f"{tol:.0e}", {"tol": tol}) for tol in abel_tols]
+        runs.append(("scalars", name, "abel scalars only", "1e-04", {"tol": 1e-4}))
+    # the accuracy of every run (and the reference checks) on the sweep engine ...
+    res = run_points(args, "studies.speed_vs_accuracy", "accuracy_point",
+                     [("check", name) for name in SCENES] + runs, "runs")
+    checks, rows = res[:len(SCENES)], res[len(SCENES):]
+    # ... then the times, serially in this process (never two timings at once)
+    print(f"timing {len(runs)} runs serially (median of {repeats} warm calls each)",
+          file=sys.stderr, flush=True)
+    for rec, t in zip(rows, time_runs(runs, repeats)):
+        rec["median_ms"] = 1e3 * t
+    refrows, winners = [], []
+    for name, chk in zip(SCENES, checks):
+        fft_check = next(r for r in rows if r["scene"] == name and r["sweep"] == "fft tol"
+                         and r["param"] == f"{ref_tol:.0e}")
+        refrows.append({**chk, "fft_check_tol": ref_tol, "fft_scalar_diff": fft_check["err_scalar"],
                         "fft_base_diff": fft_check["err_base"],
                         "fft_error_estimate": fft_check["error_estimate"]})
-        L_m = solve(scene, tol=1e-4).domain_length * scene.length_unit
-        for e in exps:
-            rows.append(_fft_run(ref, name, "fft fixed N", f"2^{e}", repeats,
-                                 grid_points=2**e, domain_length=L_m))
-            tick(f"{name}: fft N 2^{e}: err {rows[-1]['err_scalar']:.1e}, "
-                 f"{rows[-1]['median_ms']:.1f} ms")
-        for n in nodes:
-            rows.append(_abel_run(ref, name, "abel nodes", str(n), repeats, n_nodes=n))
-            tick(f"{name}: abel n {n}: err {rows[-1]['err_scalar']:.1e}, "
-                 f"{rows[-1]['median_ms']:.1f} ms")
-        for tol in abel_tols:
-            rows.append(_abel_run(ref, name, "abel tol", f"{tol:.0e}", repeats, tol=tol))
-            tick(f"{name}: abel tol {tol:.0e}: err {rows[-1]['err_scalar']:.1e}, "
-                 f"{rows[-1]['median_ms']:.1f} ms")
-        # the Abel cost without base stresses (profile at one point): scalars only
-        t, r = _median_time(lambda: solve_abel(scene, tol=1e-4, x=np.array([ref.c])), repeats)
-        rows.append(_record(ref, name, "abel", "abel scalars only", "1e-04", r, t, float("nan"),
-                            r.info["n_nodes"], {"domain_h": float("nan"),
-                                                "k_rule_points": r.info["kernel_quadrature_points"],
-                                                "warned": 0}))
-        tick(f"{name}: abel tol 1e-4, scalars only: {rows[-1]['median_ms']:.1f} ms")
         for pool in ("tol-driven", "any"):
             for key in ("err_scalar", "err_base"):
                 winners += _winners(rows, name, key, pool)

@@ -1,6 +1,6 @@
 """A sphere sliding on the film: the exact model against Goodman's, a/h 0.1 - 3, mu 0 - 3.
 
-    python -m studies.sphere_sliding [--quick] [--out DIR]
+    python -m studies.sphere_sliding [--quick] [--out DIR] [--workers N | --serial]
 
 For each Hertz half-width s = a_H/h (the force F = 32 s^3 E h^3 / (18 R), i.e. P = 32 s^3/3)
 and friction mu: the exact model (friction coupled into the contact) and Goodman's (frictionless
@@ -10,17 +10,21 @@ centroid, the peak pressure and where it sits, and the relative differences exac
 The figure: base and MEMS maps of the sliding sphere at a/h ~ 1.3, mu = 1 (the paper's measured
 field is drawn the same way: iso-lines, x along the sliding direction), plus the centroid shift
 against mu.  Writes sphere_sliding.csv, sphere_sliding_maps.png and sphere_sliding.png.
+
+The (a/h, mu) points run as tasks of ``spectral_contact.sweep.map_tasks`` (studies/_common.run_points:
+a dask LocalCluster of --workers processes, default the cores; in this process with --serial,
+with --quick unless --workers is given, or without dask.distributed); the table does not depend
+on it.  The figure's single solve runs in this process.
 """
 from __future__ import annotations
 
 import sys
-import time
 
 from spectral_contact import solve
 from spectral_contact.cli.plots import plot_maps
 from spectral_contact.instruments.sensor import sensor_maps
 
-from ._common import parse, progress, table
+from ._common import parse, run_points, table
 
 FILM = {"young": 2.2e6, "thickness": 0.002, "radius": 0.130}
 
@@ -31,36 +35,36 @@ def force_for(s: float) -> float:
     return P * FILM["young"] * FILM["thickness"] ** 3 / (6.0 * FILM["radius"])
 
 
+def sphere_point(point) -> dict:
+    """The table row of one (s = a_H/h, mu, tol): the exact and Goodman solves side by side;
+    a task of the sweep engine."""
+    s, mu, tol = point
+    kw = dict(indenter="sphere", force=force_for(s), mu=mu, tol=tol, **FILM)
+    e = solve(model="exact", **kw).summary()
+    g = solve(model="goodman", **kw).summary()
+    h = FILM["thickness"]
+    return {
+        "aH_over_h": s, "mu": mu, "force_N": e["force_N"],
+        "radius_exact_h": e["contact_radius_m"] / h,
+        "radius_goodman_h": g["contact_radius_m"] / h,
+        "x_min_exact_h": e["contact_x_min_m"] / h, "x_max_exact_h": e["contact_x_max_m"] / h,
+        "x_min_goodman_h": g["contact_x_min_m"] / h,
+        "x_max_goodman_h": g["contact_x_max_m"] / h,
+        "centroid_exact_h": e["pressure_centroid_x_m"] / h,
+        "peak_x_exact_h": e["max_pressure_x_m"] / h,
+        "peak_exact_over_goodman": e["max_pressure_Pa"] / g["max_pressure_Pa"],
+        "radius_rel_diff": e["contact_radius_m"] / g["contact_radius_m"] - 1.0,
+        "error_estimate": max(e["error_estimate"], g["error_estimate"]),
+    }
+
+
 def main(argv=None) -> int:
-    args, out = parse(argv, __doc__.splitlines()[0], "out/sphere_sliding")
+    args, out = parse(argv, __doc__.splitlines()[0], "out/sphere_sliding", engine=True)
     sizes = (1.0,) if args.quick else (0.1, 0.3, 1.0, 3.0)
     mus = (0.0, 1.0) if args.quick else (0.0, 0.5, 1.0, 2.0, 3.0)
     tol = 3e-2 if args.quick else 1e-2
-    t0 = time.perf_counter()
-    rows = []
-    n, k = len(sizes) * len(mus), 0
-    for s in sizes:
-        for mu in mus:
-            k += 1
-            progress(k, n, f"a_H/h = {s}, mu = {mu}", t0)
-            kw = dict(indenter="sphere", force=force_for(s), mu=mu, tol=tol, **FILM)
-            ex = solve(model="exact", **kw)
-            go = solve(model="goodman", **kw)
-            e, g = ex.summary(), go.summary()
-            h = FILM["thickness"]
-            rows.append({
-                "aH_over_h": s, "mu": mu, "force_N": e["force_N"],
-                "radius_exact_h": e["contact_radius_m"] / h,
-                "radius_goodman_h": g["contact_radius_m"] / h,
-                "x_min_exact_h": e["contact_x_min_m"] / h, "x_max_exact_h": e["contact_x_max_m"] / h,
-                "x_min_goodman_h": g["contact_x_min_m"] / h,
-                "x_max_goodman_h": g["contact_x_max_m"] / h,
-                "centroid_exact_h": e["pressure_centroid_x_m"] / h,
-                "peak_x_exact_h": e["max_pressure_x_m"] / h,
-                "peak_exact_over_goodman": e["max_pressure_Pa"] / g["max_pressure_Pa"],
-                "radius_rel_diff": e["contact_radius_m"] / g["contact_radius_m"] - 1.0,
-                "error_estimate": max(e["error_estimate"], g["error_estimate"]),
-            })
+    rows = run_points(args, "studies.sphere_sliding", "sphere_point",
+                      [(s, mu, tol) for s in sizes for mu in mus], "scenes")
     table(rows, out / "sphere_sliding.csv",
           "sliding sphere on the film: exact vs Goodman (lengths in h, from the apex)")
     # the maps figure: a/h ~ 1.3 on the film (Hertz 1.6), mu = 1

@@ -1,6 +1,6 @@
 """Where the FFT method fails, and how: domain length, grid spacing, friction, thin film.
 
-    python -m studies.stability [--quick] [--out DIR]
+    python -m studies.stability [--quick] [--out DIR] [--workers N | --serial]
 
 Four sweeps, each against a reference the sweep does not touch:
 
@@ -21,6 +21,12 @@ Four sweeps, each against a reference the sweep does not touch:
 
 Writes stability_domain.csv, stability_grid.csv, stability_phase.csv, stability_mu.csv,
 stability_thin.csv and stability.png (one panel per aspect, failures marked with x).
+
+Every point of the four sweeps runs as a task of ``spectral_contact.sweep.map_tasks``
+(studies/_common.run_points: a dask LocalCluster of --workers processes, default the cores; in this
+process with --serial, with --quick unless --workers is given, or without dask.distributed); the
+tables do not depend on it, except time_s (stability_mu.csv), the wall time of the automatic
+solve on its worker: with several workers on shared cores it is inflated (use --serial to time).
 """
 from __future__ import annotations
 
@@ -38,7 +44,7 @@ from spectral_contact.numerics.grid import Grid
 from spectral_contact.physics.film import DECAY_RATE
 from spectral_contact.physics.indenters import Cylinder
 
-from ._common import parse, progress, table, write_rows
+from ._common import parse, run_points, table, write_rows
 
 NAN = float("nan")
 _FAILURES = (ConvergenceError, ValueError, np.linalg.LinAlgError)
@@ -87,96 +93,100 @@ def solve_grid(n, L, center, mu, P, shift=0.0):
 
 
 # --- 1. domain length ----------------------------------------------------------------------------
-def domain_sweep(scene, mus, margins, across, t0):
+def domain_point(scene, mu, margins, across):
+    """The rows of one mu_d: every margin against the reference L - 2a = 40."""
     rows = []
-    for mu in mus:
-        r = solve(scene.with_(mu=mu), tol=1e-4)  # locates the contact only
-        a0, c0 = r.half_width, r.center
-        dx = 2 * a0 / across
-        n_ref = 2 * round((2 * a0 + 40.0) / dx / 2)
-        ref = measure(solve_grid(n_ref, n_ref * dx, c0, mu, scene.P))
-        for m in margins:
-            n = 2 * round((2 * a0 + m) / dx / 2)  # same dx, same nodes (middle node at c0)
-            L = n * dx
-            row = {"mu": mu, "L_minus_2a": L - 2 * ref["a"], "N": n, "L": L, "status": "ok",
-                   "err_a": NAN, "err_c": NAN, "err_d": NAN, "err_p": NAN,
-                   "predicted": math.exp(-DECAY_RATE * (L - 2 * ref["a"])), "its": 0}
-            try:
-                sol = solve_grid(n, L, c0, mu, scene.P)
-                row.update(errors(measure(sol), ref))
-                row["its"] = sol.iterations
-            except _FAILURES as exc:
-                row["status"] = short(exc)
-            rows.append(row)
-        progress(mus.index(mu) + 1, len(mus), f"domain length, mu = {mu:g}", t0)
+    r = solve(scene.with_(mu=mu), tol=1e-4)  # locates the contact only
+    a0, c0 = r.half_width, r.center
+    dx = 2 * a0 / across
+    n_ref = 2 * round((2 * a0 + 40.0) / dx / 2)
+    ref = measure(solve_grid(n_ref, n_ref * dx, c0, mu, scene.P))
+    for m in margins:
+        n = 2 * round((2 * a0 + m) / dx / 2)  # same dx, same nodes (middle node at c0)
+        L = n * dx
+        row = {"mu": mu, "L_minus_2a": L - 2 * ref["a"], "N": n, "L": L, "status": "ok",
+               "err_a": NAN, "err_c": NAN, "err_d": NAN, "err_p": NAN,
+               "predicted": math.exp(-DECAY_RATE * (L - 2 * ref["a"])), "its": 0}
+        try:
+            sol = solve_grid(n, L, c0, mu, scene.P)
+            row.update(errors(measure(sol), ref))
+            row["its"] = sol.iterations
+        except _FAILURES as exc:
+            row["status"] = short(exc)
+        rows.append(row)
     return rows
 
 
 # --- 2. grid spacing and edge phase --------------------------------------------------------------
-def grid_sweep(scene, exps, ref_exp, t0):
+def locate(scene):
+    """(a, x_c) of the automatic solve at tol 1e-4: where the grid and phase sweeps put their grids."""
     r = solve(scene, tol=1e-4)  # locates the contact only
-    a0, c0, mu, P = r.half_width, r.center, scene.mu, scene.P
-    L = 2 * a0 + 30.0  # images ~ exp(-0.739 * 30) = 2e-10
-    nr = 2**ref_exp
-    ref = mean(measure(solve_grid(nr, L, c0, mu, P)), measure(solve_grid(nr, L, c0, mu, P, 0.5)))
+    return r.half_width, r.center
+
+
+def grid_point(n, L, c0, mu, P):
+    """The measurements on n points, unshifted and shifted half a cell; a status on failure."""
+    try:
+        return measure(solve_grid(n, L, c0, mu, P)), measure(solve_grid(n, L, c0, mu, P, 0.5))
+    except _FAILURES as exc:
+        return short(exc)
+
+
+def grid_rows(exps, nr, L, ref_q, qs):
+    """The grid-spacing rows from the reference's and each grid's measurements (grid_point)."""
+    ref = mean(*ref_q)
     rows = []
-    for i, e in enumerate(exps, 1):
+    for e, q01 in zip(exps, qs):
         n = 2**e
         row = {"N": n, "across": 2 * ref["a"] / (L / n), "status": "ok"}
         for tag in ("raw", "avg"):
             for q in ("a", "c", "d", "p"):
                 row[f"{tag}_err_{q}"] = NAN
-        try:
-            q0 = measure(solve_grid(n, L, c0, mu, P))
-            q1 = measure(solve_grid(n, L, c0, mu, P, 0.5))
+        if isinstance(q01, str):
+            row["status"] = q01
+        else:
+            q0, q1 = q01
             for tag, q in (("raw", q0), ("avg", mean(q0, q1))):
                 for k, v in errors(q, ref).items():
                     row[f"{tag}_{k}"] = v
-        except _FAILURES as exc:
-            row["status"] = short(exc)
         rows.append(row)
-        progress(i, len(exps), f"grid N = 2^{e}", t0)
     return rows, {"L": L, "ref_N": nr, "ref_across": 2 * ref["a"] / (L / nr)}
 
 
-def phase_sweep(scene, acrosses, shifts, t0):
-    """Edge error / dx against theta (edge position within its cell), raw and half-cell averaged."""
-    r = solve(scene, tol=1e-4)  # locates the contact only
-    a0, c0, mu, P = r.half_width, r.center, scene.mu, scene.P
+def phase_point(a0, c0, mu, P, across, shifts):
+    """Edge error / dx against theta (edge position within its cell), raw and half-cell averaged,
+    at one resolution: (rows, summary row)."""
     L = 2 * a0 + 30.0
-    rows, summary = [], []
-    for j, across in enumerate(acrosses, 1):
-        dx = 2 * a0 / across
-        n = 2 * math.ceil(L / dx / 2)
-        Lg = n * dx
-        nf = 32 * n  # reference: 32 times finer, averaged over its own half-cell shift
-        ref = mean(measure(solve_grid(nf, Lg, c0, mu, P)),
-                   measure(solve_grid(nf, Lg, c0, mu, P, 0.5)))
-        qs = [measure(solve_grid(n, Lg, c0, mu, P, s)) for s in shifts]
-        ns = len(shifts)
-        for i, s in enumerate(shifts):
-            q, qh = qs[i], qs[(i + ns // 2) % ns]  # the grid shifted by a further half cell
-            origin = Grid.centered(n, Lg, c0 + s * dx).origin
-            row = {"across": across, "s": s}
-            for side in ("right", "left"):
-                e_ref = ref[side]
-                row[f"theta_{side}"] = ((e_ref - origin) / dx) % 1.0
-                row[f"raw_{side}"] = (q[side] - e_ref) / dx
-                row[f"avg_{side}"] = (0.5 * (q[side] + qh[side]) - e_ref) / dx
-            row["raw_a_rel"] = (q["a"] - ref["a"]) / ref["a"]
-            row["avg_a_rel"] = (0.5 * (q["a"] + qh["a"]) - ref["a"]) / ref["a"]
-            rows.append(row)
-        sel = [rw for rw in rows if rw["across"] == across]
-        stat = {"across": across, "N": n}
-        for tag in ("raw", "avg"):
-            v = np.array([[rw[f"{tag}_right"], rw[f"{tag}_left"]] for rw in sel])
-            stat[f"{tag}_mean_dx"] = float(v.mean())
-            stat[f"{tag}_rms_dx"] = float(np.sqrt(np.mean((v - v.mean(axis=0)) ** 2)))
-            stat[f"{tag}_max_dx"] = float(np.abs(v).max())
-            stat[f"{tag}_max_a_rel"] = float(max(abs(rw[f"{tag}_a_rel"]) for rw in sel))
-        summary.append(stat)
-        progress(j, len(acrosses), f"edge phase, {across:g} points across", t0)
-    return rows, summary
+    rows = []
+    dx = 2 * a0 / across
+    n = 2 * math.ceil(L / dx / 2)
+    Lg = n * dx
+    nf = 32 * n  # reference: 32 times finer, averaged over its own half-cell shift
+    ref = mean(measure(solve_grid(nf, Lg, c0, mu, P)),
+               measure(solve_grid(nf, Lg, c0, mu, P, 0.5)))
+    qs = [measure(solve_grid(n, Lg, c0, mu, P, s)) for s in shifts]
+    ns = len(shifts)
+    for i, s in enumerate(shifts):
+        q, qh = qs[i], qs[(i + ns // 2) % ns]  # the grid shifted by a further half cell
+        origin = Grid.centered(n, Lg, c0 + s * dx).origin
+        row = {"across": across, "s": s}
+        for side in ("right", "left"):
+            e_ref = ref[side]
+            row[f"theta_{side}"] = ((e_ref - origin) / dx) % 1.0
+            row[f"raw_{side}"] = (q[side] - e_ref) / dx
+            row[f"avg_{side}"] = (0.5 * (q[side] + qh[side]) - e_ref) / dx
+        row["raw_a_rel"] = (q["a"] - ref["a"]) / ref["a"]
+        row["avg_a_rel"] = (0.5 * (q["a"] + qh["a"]) - ref["a"]) / ref["a"]
+        rows.append(row)
+    sel = [rw for rw in rows if rw["across"] == across]
+    stat = {"across": across, "N": n}
+    for tag in ("raw", "avg"):
+        v = np.array([[rw[f"{tag}_right"], rw[f"{tag}_left"]] for rw in sel])
+        stat[f"{tag}_mean_dx"] = float(v.mean())
+        stat[f"{tag}_rms_dx"] = float(np.sqrt(np.mean((v - v.mean(axis=0)) ** 2)))
+        stat[f"{tag}_max_dx"] = float(np.abs(v).max())
+        stat[f"{tag}_max_a_rel"] = float(max(abs(rw[f"{tag}_a_rel"]) for rw in sel))
+    return rows, stat
 
 
 # --- 3. friction ---------------------------------------------------------------------------------
@@ -185,46 +195,43 @@ def _runs_gap(edges):
     return max((e[i + 1][0] - e[i][1] for i in range(len(e) - 1)), default=0.0)
 
 
-def mu_sweep(scene, mus, fine_mus, fixed_n, t0):
-    rows = []
-    for i, mu in enumerate(mus, 1):
-        row = {"mu": mu, "status": "ok", "a": NAN, "c": NAN, "d": NAN, "pmax": NAN, "runs": 0,
-               "runs_gap": NAN, "N": 0, "L": NAN, "levels": 0, "asi_final": 0, "gmres_total": 0,
-               "residual": NAN, "estimate": NAN, "time_s": NAN, "tol6_status": "",
-               "tol6_diff": NAN, "cold_status": "", "cold_asi": 0, "cold_gmres": 0}
-        sc = scene.with_(mu=mu)
-        t = time.perf_counter()
+def mu_point(scene, mu, fine, fixed_n):
+    """One mu_d: the automatic solve (and at tol 1e-6 if ``fine``), the cold start on fixed_n."""
+    row = {"mu": mu, "status": "ok", "a": NAN, "c": NAN, "d": NAN, "pmax": NAN, "runs": 0,
+           "runs_gap": NAN, "N": 0, "L": NAN, "levels": 0, "asi_final": 0, "gmres_total": 0,
+           "residual": NAN, "estimate": NAN, "time_s": NAN, "tol6_status": "",
+           "tol6_diff": NAN, "cold_status": "", "cold_asi": 0, "cold_gmres": 0}
+    sc = scene.with_(mu=mu)
+    t = time.perf_counter()
+    try:
+        r = solve(sc, tol=1e-4)
+        row.update(a=r.half_width, c=r.center, d=r.indentation, pmax=r.max_pressure,
+                   runs=len(r.info["edges"]), runs_gap=_runs_gap(r.info["edges"]),
+                   N=r.grid_points, L=r.domain_length, levels=len(r.info["levels"]),
+                   asi_final=r.iterations, gmres_total=r.info["krylov_iterations"],
+                   residual=r.residual, estimate=r.error_estimate)
+    except ConvergenceError as exc:
+        row["status"] = short(exc)
+        r = None
+    row["time_s"] = time.perf_counter() - t
+    if fine:
         try:
-            r = solve(sc, tol=1e-4)
-            row.update(a=r.half_width, c=r.center, d=r.indentation, pmax=r.max_pressure,
-                       runs=len(r.info["edges"]), runs_gap=_runs_gap(r.info["edges"]),
-                       N=r.grid_points, L=r.domain_length, levels=len(r.info["levels"]),
-                       asi_final=r.iterations, gmres_total=r.info["krylov_iterations"],
-                       residual=r.residual, estimate=r.error_estimate)
+            r6 = solve(sc, tol=1e-6)
+            row["tol6_status"] = "ok"
+            if r is not None:
+                row["tol6_diff"] = abs(r.half_width - r6.half_width) / r6.half_width
         except ConvergenceError as exc:
-            row["status"] = short(exc)
-            r = None
-        row["time_s"] = time.perf_counter() - t
-        if mu in fine_mus:
-            try:
-                r6 = solve(sc, tol=1e-6)
-                row["tol6_status"] = "ok"
-                if r is not None:
-                    row["tol6_diff"] = abs(r.half_width - r6.half_width) / r6.half_width
-            except ConvergenceError as exc:
-                row["tol6_status"] = short(exc)
-        # cold start (Hertz guess) on a fixed grid covering the contact: the active-set iteration
-        # without the solver's warm starts
-        L = r.domain_length if r is not None else 2 * 8.0 + 20
-        ctr = r.center if r is not None else 0.0
-        try:
-            sol = solve_grid(fixed_n, L, ctr, mu, sc.P)
-            row.update(cold_status="ok", cold_asi=sol.iterations, cold_gmres=sol.krylov_iterations)
-        except _FAILURES as exc:
-            row["cold_status"] = short(exc)
-        rows.append(row)
-        progress(i, len(mus), f"mu = {mu:g}: {row['status']}", t0)
-    return rows
+            row["tol6_status"] = short(exc)
+    # cold start (Hertz guess) on a fixed grid covering the contact: the active-set iteration
+    # without the solver's warm starts
+    L = r.domain_length if r is not None else 2 * 8.0 + 20
+    ctr = r.center if r is not None else 0.0
+    try:
+        sol = solve_grid(fixed_n, L, ctr, mu, sc.P)
+        row.update(cold_status="ok", cold_asi=sol.iterations, cold_gmres=sol.krylov_iterations)
+    except _FAILURES as exc:
+        row["cold_status"] = short(exc)
+    return row
 
 
 def split_threshold(scene, lo, hi, steps):
@@ -240,25 +247,32 @@ def split_threshold(scene, lo, hi, steps):
 
 
 # --- 4. thin film --------------------------------------------------------------------------------
-def thin_sweep(scene, a_thins, t0):
-    rows = []
-    for i, A in enumerate(a_thins, 1):
-        P = 4 * A**5 / 15
-        sc = scene.with_(load=P * scene.stress_unit * scene.length_unit, mu=0.0)
-        row = {"a_thin": A, "P": sc.P, "status": "ok", "a": NAN, "a_over_thin": NAN,
-               "thin_minus_a": NAN, "pmax_over_thin": NAN, "d_over_thin": NAN,
-               "a_hertz": math.sqrt(sc.P / (2 * math.pi)), "N": 0, "L": NAN, "estimate": NAN}
-        try:
-            r = solve(sc, tol=1e-4)
-            row.update(a=r.half_width, a_over_thin=r.half_width / A, thin_minus_a=A - r.half_width,
-                       pmax_over_thin=r.max_pressure / (A**4 / 4),
-                       d_over_thin=r.indentation / (A * A / 3), N=r.grid_points,
-                       L=r.domain_length, estimate=r.error_estimate)
-        except ConvergenceError as exc:
-            row["status"] = short(exc)
-        rows.append(row)
-        progress(i, len(a_thins), f"thin film a_thin = {A:g}: {row['status']}", t0)
-    return rows
+def thin_point(scene, A):
+    """The thin-film row of a_thin = A (mu = 0)."""
+    P = 4 * A**5 / 15
+    sc = scene.with_(load=P * scene.stress_unit * scene.length_unit, mu=0.0)
+    row = {"a_thin": A, "P": sc.P, "status": "ok", "a": NAN, "a_over_thin": NAN,
+           "thin_minus_a": NAN, "pmax_over_thin": NAN, "d_over_thin": NAN,
+           "a_hertz": math.sqrt(sc.P / (2 * math.pi)), "N": 0, "L": NAN, "estimate": NAN}
+    try:
+        r = solve(sc, tol=1e-4)
+        row.update(a=r.half_width, a_over_thin=r.half_width / A, thin_minus_a=A - r.half_width,
+                   pmax_over_thin=r.max_pressure / (A**4 / 4),
+                   d_over_thin=r.indentation / (A * A / 3), N=r.grid_points,
+                   L=r.domain_length, estimate=r.error_estimate)
+    except ConvergenceError as exc:
+        row["status"] = short(exc)
+    return row
+
+
+_POINTS = {"domain": domain_point, "grid": grid_point, "phase": phase_point, "mu": mu_point,
+           "thin": thin_point}
+
+
+def point(task):
+    """One task of the sweep engine: (kind, *arguments) -> kind_point(*arguments)."""
+    kind, *a = task
+    return _POINTS[kind](*a)
 
 
 # --- figure --------------------------------------------------------------------------------------
@@ -407,9 +421,8 @@ def plot(path, dom, grid, phase, mus, thin):
 
 
 def main(argv=None) -> int:
-    args, out = parse(argv, __doc__.splitlines()[0], "out/stability")
+    args, out = parse(argv, __doc__.splitlines()[0], "out/stability", engine=True)
     scene = Scene()
-    t0 = time.perf_counter()
     if args.quick:
         dom_mus, margins, across_dom = [2.0], [0.5, 2, 4, 8, 12, 16, 20], 64
         exps, ref_exp = list(range(5, 13)), 15
@@ -431,17 +444,38 @@ def main(argv=None) -> int:
         split = (95.0, 96.0, 7)
         thins = [0.5, 1.0, 2.0, 3.0, 5.0, 7.0, 10.0, 15.0, 20.0, 30.0, 50.0, 100.0, 150.0, 200.0]
 
-    dom = domain_sweep(scene, dom_mus, margins, across_dom, t0)
+    # every point of the four sweeps, one task each, on the sweep engine (the bisection for the
+    # split threshold is sequential: it runs here, after them)
+    a0, c0 = locate(scene)
+    L = 2 * a0 + 30.0  # images ~ exp(-0.739 * 30) = 2e-10
+    nr = 2**ref_exp
+    mu, P = scene.mu, scene.P
+    tasks = ([("domain", scene, m, margins, across_dom) for m in dom_mus]
+             + [("grid", nr, L, c0, mu, P)] + [("grid", 2**e, L, c0, mu, P) for e in exps]
+             + [("phase", a0, c0, mu, P, ac, shifts) for ac in acrosses]
+             + [("mu", scene, m, m in fine_mus, fixed_n) for m in mus]
+             + [("thin", scene, A) for A in thins])
+    res = iter(run_points(args, "studies.stability", "point", tasks, "points"))
+    dom = [row for _ in dom_mus for row in next(res)]
+    ref_q = next(res)
+    if isinstance(ref_q, str):  # the reference must solve (as before: its failure ends the study)
+        raise ConvergenceError(f"grid-spacing reference N = {nr}: {ref_q}")
+    grid, gmeta = grid_rows(exps, nr, L, ref_q, [next(res) for _ in exps])
+    phase, psum = [], []
+    for _ in acrosses:
+        rows, stat = next(res)
+        phase += rows
+        psum.append(stat)
+    murows = [next(res) for _ in mus]
+    thin = [next(res) for _ in thins]
     table(dom, out / "stability_domain.csv",
           f"1. Periodic images: errors vs L - 2a at fixed dx = 2a/{across_dom} (same nodes), "
           f"reference L - 2a = 40; predicted = exp(-0.739 (L - 2a))")
-    grid, gmeta = grid_sweep(scene, exps, ref_exp, t0)
     table(grid, out / "stability_grid.csv",
           f"2. Grid spacing (mu = {scene.mu:g}, P = {scene.P:.4g}): relative errors vs points "
           f"across the contact, period {gmeta['L']:.2f} h; raw = one grid, avg = mean with the "
           f"half-cell shifted grid; reference N = {gmeta['ref_N']} "
           f"({gmeta['ref_across']:.0f} across), averaged")
-    phase, psum = phase_sweep(scene, acrosses, shifts, t0)
     main_across = acrosses[len(acrosses) // 2]
     table([r for r in phase if r["across"] == main_across], out / "stability_phase.csv",
           f"2b. Edge phase error (edge error / dx) vs theta, {main_across} points across; "
@@ -452,7 +486,6 @@ def main(argv=None) -> int:
     table(psum, out / "stability_phase_summary.csv",
           "2b. Edge phase error summary over theta (both edges): mean (bias), rms about the mean, "
           "max |error| in dx; max relative error of a")
-    murows = mu_sweep(scene, mus, fine_mus, fixed_n, t0)
     table(murows, out / "stability_mu.csv",
           f"3. Friction: automatic solve at tol 1e-4 (tol6 = at 1e-6: status, |a - a6|/a6), and a "
           f"cold start on N = {fixed_n} (cold_*); runs = contact intervals, runs_gap = widest gap "
@@ -460,7 +493,6 @@ def main(argv=None) -> int:
     if split:
         lo, hi = split_threshold(scene, *split)
         print(f"contact splits into two intervals between mu_d = {lo:.4f} and {hi:.4f}")
-    thin = thin_sweep(scene, thins, t0)
     table(thin, out / "stability_thin.csv",
           "4. Thin film (mu = 0): solver vs asymptote a_thin = (15P/4)^(1/5), p_max = a_thin^4/4, "
           "d = a_thin^2/3 (tol 1e-4); a_hertz = sqrt(P/2pi), the half-space width")

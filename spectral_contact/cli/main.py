@@ -331,6 +331,14 @@ def _cmd_study(args) -> int:
     if not callable(getattr(mod, "main", None)):
         raise InputError(f"study: {args.name!r} is not a runnable study (no main)")
     argv = (["--quick"] if args.quick else []) + (["--out", args.out] if args.out else [])
+    if args.workers is not None or args.serial:
+        # the studies whose points run through sweep.map_tasks say so in their usage line
+        if "[--workers N | --serial]" not in (mod.__doc__ or ""):
+            raise InputError(f"study: {args.name!r} takes no --workers / --serial (it measures "
+                             f"times or runs its own loop)")
+        if args.workers is not None and args.workers < 1:
+            raise InputError(f"study: --workers must be >= 1; got {args.workers}")
+        argv += ["--serial"] if args.serial else ["--workers", str(args.workers)]
     return int(mod.main(argv) or 0)
 
 
@@ -407,6 +415,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("name", metavar="NAME", help="one of the studies listed above")
     p.add_argument("--quick", action="store_true", help="small version (under a minute; what the tests run)")
     p.add_argument("--out", default=None, metavar="DIR", help="output folder (default out/NAME)")
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="studies that sweep: a dask LocalCluster of N worker processes (default: "
+                        "the cores; with --quick: this process)")
+    g.add_argument("--serial", action="store_true", help="studies that sweep: run in this process")
     p.set_defaults(func=_cmd_study)
     for name in _PLUGINS:
         try:
