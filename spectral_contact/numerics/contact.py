@@ -139,23 +139,35 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         wload = np.where(loaded, gap_norm / np.where(loaded, loads, 1.0), 1.0)
         # preconditioner: inverse symbol clipped below the lowest mode the largest contact holds
         Hinv = op.preconditioner(np.pi / extents[loaded].max())
-        buf = np.zeros(n)
+        buf = np.zeros(n)  # zero off idx for this whole outer iteration: only buf[idx] is written
+        buf_nd = buf.reshape(shape)
+        apply, apply_symbol = op.apply, op.apply_symbol
+        if M == 1:  # one body (the common case): no gather by owner, no bincount
+            wcell = cell * float(wload[0])
 
-        def matvec(v):
-            buf[:] = 0.0
-            buf[idx] = v[:ni]
-            w = Hp(buf)
-            out = np.empty_like(v)
-            out[:ni] = w[idx] - v[ni:][own]
-            out[ni:] = cell * np.bincount(own, weights=v[:ni], minlength=M) * wload
-            return out
+            def matvec(v):
+                counter["fft"] += 1
+                buf[idx] = v[:ni]
+                w = apply(buf_nd).ravel()
+                out = np.empty_like(v)
+                np.subtract(w[idx], v[ni], out=out[:ni])
+                out[ni] = wcell * v[:ni].sum()
+                return out
+        else:
+            def matvec(v):
+                counter["fft"] += 1
+                buf[idx] = v[:ni]
+                w = apply(buf_nd).ravel()
+                out = np.empty_like(v)
+                out[:ni] = w[idx] - v[ni:][own]
+                out[ni:] = cell * np.bincount(own, weights=v[:ni], minlength=M) * wload
+                return out
 
         def psolve(r):
             counter["fft"] += 1
-            buf[:] = 0.0
             buf[idx] = r[:ni]
             z = np.empty_like(r)
-            z[:ni] = op.apply_symbol(buf.reshape(shape), Hinv).ravel()[idx]
+            z[:ni] = apply_symbol(buf_nd, Hinv).ravel()[idx]
             z[ni:] = r[ni:]
             return z
 
