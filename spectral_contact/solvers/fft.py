@@ -188,7 +188,10 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     # the inner (GMRES) solves: 1e-10 costs ~10 % more iterations than 1e-9 for nothing at
     # these tolerances (the results keep their residual below 1e-8); the locator's a and x_c
     # only size the period and the grid: its inner solves are looser
-    rtol = min(max(_RTOL_FLOOR, 1e-2 * accept), _RTOL_CAP)
+    # only speeds the adaptive path: a user-fixed grid keeps 1e-10 (its results stay those of
+    # earlier versions to round-off: golden values)
+    adaptive = not grid_points
+    rtol = min(max(_RTOL_FLOOR, 1e-2 * accept), _RTOL_CAP) if adaptive else _RTOL_FLOOR
     # a friction law other than Amontons: an outer fixed point around each contact solve
     # (numerics.friction), converged to the same relative accuracy as the contact solves
     law = scene.friction.dimensionless(scene.stress_unit, scene.mu)
@@ -206,15 +209,15 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
                                            rtol=accept)
             s_.soft = True
             return s_
+        # the same inner tolerances on every path (a proportional law stays Amontons bit for bit)
+        rt, acc = ((max(rtol, _LOCATOR_RTOL), max(accept, _LOCATOR_ACCEPT)) if locator and adaptive
+                   else (rtol, accept))
         if not with_law and c == 0.0:
-            if locator:
-                return solve_contact(grid, mu_contact, indenter, film=film, p_init=p_init,
-                                     rtol=max(rtol, _LOCATOR_RTOL), accept=max(accept, _LOCATOR_ACCEPT))
-            return solve_contact(grid, mu_contact, indenter, film=film, p_init=p_init, rtol=rtol,
-                                 accept=accept)
+            return solve_contact(grid, mu_contact, indenter, film=film, p_init=p_init, rtol=rt,
+                                 accept=acc)
         s_, _, li = solve_contact_law(grid, law if with_law else ShearLaw("amontons", mu=mu_contact),
                                       indenter, film=film, interface=c, p_init=p_init,
-                                      accept=accept, law_tol=accept)
+                                      accept=acc, rtol=rt, law_tol=accept)
         law_iterations[0] += li["law_iterations"]
         return s_
 
