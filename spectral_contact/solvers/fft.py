@@ -128,6 +128,20 @@ def _average(q0, q1):
     return out
 
 
+_EDGE_REACH = 0.25  # (measured) a collocation solve's contact holds the nodes up to ~0.15-0.3
+#                   cells beyond the fitted (continuous) edges, not those 0.4-0.5 cells beyond
+
+
+def _first_set(g, edges, p, reach=_EDGE_REACH):
+    """A first pressure on grid ``g`` whose support is the contact set a solve on ``g`` is
+    expected to end with: the nodes within _EDGE_REACH cells beyond the envelope of ``edges``
+    (fitted on a previous solution); ``p`` (interpolated) inside, floored at 1e-12.  Only the
+    number of active-set steps depends on it, not the solution."""
+    lo = min(e[0] for e in edges) - reach * g.dx
+    hi = max(e[1] for e in edges) + reach * g.dx
+    return np.where((g.x > lo) & (g.x < hi), np.maximum(p, 1e-12), 0.0)
+
+
 def _refine(p: np.ndarray) -> np.ndarray:
     """Nested linear interpolation of a periodic nodal field onto the grid of twice the points."""
     out = np.empty(2 * p.size)
@@ -188,8 +202,9 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     # the inner (GMRES) solves: 1e-10 costs ~10 % more iterations than 1e-9 for nothing at
     # these tolerances (the results keep their residual below 1e-8); the locator's a and x_c
     # only size the period and the grid: its inner solves are looser
-    # only speeds the adaptive path: a user-fixed grid keeps 1e-10 (its results stay those of
-    # earlier versions to round-off: golden values)
+    # this and the first active sets from fitted edges (_first_set) only speed the adaptive
+    # path: a user-fixed grid keeps 1e-10 and its earlier first sets (its results stay those
+    # of earlier versions to round-off: golden values; either moves them by ~1e-11)
     adaptive = not grid_points
     rtol = min(max(_RTOL_FLOOR, 1e-2 * accept), _RTOL_CAP) if adaptive else _RTOL_FLOOR
     # a friction law other than Amontons: an outer fixed point around each contact solve
@@ -304,16 +319,23 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
             # start from the locator's pressure (first level) or the previous level's
             if prev is None:
                 p_init = np.interp(g.x, sol.grid.x, sol.pressure, period=sol.grid.length)
+                if adaptive and not exponential and q["edges"]:
+                    p_init = _first_set(g, q["edges"], p_init)
             else:
-                lo, hi = min(e[0] for e in qprev["edges"]), max(e[1] for e in qprev["edges"])
-                p_init = np.where((g.x > lo) & (g.x < hi), np.maximum(_refine(prev.pressure), 1e-12),
-                                  0.0)
+                p_init = _first_set(g, qprev["edges"], _refine(prev.pressure),
+                                    _EDGE_REACH if adaptive else 0.0)
                 if exponential:  # no contact set: the whole refined pressure
                     p_init = _refine(prev.pressure)
             try:
                 cur = contact(g, p_init=p_init)
-                shifted = contact(Grid.centered(n, L, center + 0.5 * g.dx),
-                                  p_init=0.5 * (cur.pressure + np.roll(cur.pressure, -1)))
+                gs = Grid.centered(n, L, center + 0.5 * g.dx)
+                ps = 0.5 * (cur.pressure + np.roll(cur.pressure, -1))
+                q0 = _measure(cur)
+                if adaptive and not exponential and q0["edges"]:
+                    # the first active set from cur's fitted edges (the midpoint beyond an
+                    # edge has p > 0 but is mostly out of contact: one active-set step less)
+                    ps = _first_set(gs, q0["edges"], ps)
+                shifted = contact(gs, p_init=ps)
             except ConvergenceError:
                 # the coarsest automatic level may not settle (strong friction: mu = 30 at
                 # a = 29 h on 64 points); start the comparison one level finer instead
@@ -325,7 +347,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
                 krylov += s_.krylov_iterations
                 outer += s_.iterations
             residual = max(cur.residual, shifted.residual)
-            q0, q1 = _measure(cur), _measure(shifted)
+            q1 = _measure(shifted)
             qcur = _average(q0, q1)
             shift_diff = _difference(q0, q1)
             levels.append((n, qcur))
