@@ -130,7 +130,8 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         idx = np.flatnonzero(active)
         own = owner[idx]
         ni = idx.size
-        extents = np.maximum(np.bincount(own, minlength=M), 1) * cell
+        extents = (np.array([max(ni, 1)]) if M == 1
+                   else np.maximum(np.bincount(own, minlength=M), 1)) * cell
         if ndim > 1:
             extents = extents ** (1.0 / ndim)
         # weight of each load row: its right-hand side as large as the whole gap block's, so
@@ -139,23 +140,35 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         wload = np.where(loaded, gap_norm / np.where(loaded, loads, 1.0), 1.0)
         # preconditioner: inverse symbol clipped below the lowest mode the largest contact holds
         Hinv = op.preconditioner(np.pi / extents[loaded].max())
-        buf = np.zeros(n)
+        buf = np.zeros(n)  # zero off idx for this whole outer iteration: only buf[idx] is written
+        buf_nd = buf.reshape(shape)
+        apply, apply_symbol = op.apply, op.apply_symbol
+        if M == 1:  # one body (the common case): no gather by owner, no bincount
+            wcell = cell * float(wload[0])
 
-        def matvec(v):
-            buf[:] = 0.0
-            buf[idx] = v[:ni]
-            w = Hp(buf)
-            out = np.empty_like(v)
-            out[:ni] = w[idx] - v[ni:][own]
-            out[ni:] = cell * np.bincount(own, weights=v[:ni], minlength=M) * wload
-            return out
+            def matvec(v):
+                counter["fft"] += 1
+                buf[idx] = v[:ni]
+                w = apply(buf_nd).ravel()
+                out = np.empty_like(v)
+                np.subtract(w[idx], v[ni], out=out[:ni])
+                out[ni] = wcell * v[:ni].sum()
+                return out
+        else:
+            def matvec(v):
+                counter["fft"] += 1
+                buf[idx] = v[:ni]
+                w = apply(buf_nd).ravel()
+                out = np.empty_like(v)
+                out[:ni] = w[idx] - v[ni:][own]
+                out[ni:] = cell * np.bincount(own, weights=v[:ni], minlength=M) * wload
+                return out
 
         def psolve(r):
             counter["fft"] += 1
-            buf[:] = 0.0
             buf[idx] = r[:ni]
             z = np.empty_like(r)
-            z[:ni] = op.apply_symbol(buf.reshape(shape), Hinv).ravel()[idx]
+            z[:ni] = apply_symbol(buf_nd, Hinv).ravel()[idx]
             z[ni:] = r[ni:]
             return z
 
@@ -182,7 +195,7 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
             # the state only if that violation is negligible, and raises otherwise.
             break
         seen.add(active.tobytes())
-        for m in np.flatnonzero(loaded):
+        for m in (() if M == 1 and new.any() else np.flatnonzero(loaded)):
             if not np.any(new & (owner == m)):
                 sel = np.flatnonzero(owner == m)
                 new[sel[np.argmin(gap[sel])]] = True
@@ -244,6 +257,16 @@ def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None,
         sol.coarse_krylov_iterations = coarse.krylov_iterations + coarse.coarse_krylov_iterations
         return sol
     op = compliance_operator(grid.shape, grid.lengths, float(mu), film)
+    if len(indenters) == 1:  # one body owns every node (no distances to compare)
+        ind = indenters[0]
+        guess = None
+        if p_init is None:
+            guess = np.broadcast_to(ind.initial_pressure(grid) if ind.load > 0 else 0.0,
+                                    grid.shape)
+        return solve_complementarity(op, ind.height(grid), np.zeros(grid.shape, dtype=np.intp),
+                                     [ind.load], p_init=guess if p_init is None else p_init,
+                                     rtol=rtol, accept=accept, max_outer=max_outer,
+                                     max_krylov=max_krylov, grid=grid)
     dist = np.stack([np.broadcast_to(ind.distance(grid), grid.shape) for ind in indenters])
     owner = np.argmin(dist, axis=0)  # nearest apex (periodically); ties to the first
     f = np.zeros(grid.shape)

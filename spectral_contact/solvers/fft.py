@@ -60,6 +60,10 @@ _SHIFT_RESIDUAL = 0.25  # averaged phase error <= this fraction of the shift dif
 # Measured amplitude (against tol 1e-5 solves, L - 2a = 6 ... 12 h): 0.5-0.6 at mu 0, 0.6-1.0 at
 # mu 2, 1.5 at mu 10; bounded by _IMAGE_AMPLITUDE * max(1, |mu|/10)
 _IMAGE_AMPLITUDE = 2.0
+# the locator's inner solves (plain Amontons contact): its a and x_c are only good to ~dx anyway
+_LOCATOR_RTOL = 1e-6
+_LOCATOR_ACCEPT = 1e-3
+_RTOL_FLOOR, _RTOL_CAP = 1e-10, 1e-9  # the inner solves' relative tolerance: 1e-3 accept, within these
 _BYTES_PER_POINT = 400  # peak Python-side memory of a fixed-N solve (tracemalloc, N = 2^14..2^18)
 
 
@@ -124,6 +128,20 @@ def _average(q0, q1):
     return out
 
 
+_EDGE_REACH = 0.25  # (measured) a collocation solve's contact holds the nodes up to ~0.15-0.3
+#                   cells beyond the fitted (continuous) edges, not those 0.4-0.5 cells beyond
+
+
+def _first_set(g, edges, p, reach=_EDGE_REACH):
+    """A first pressure on grid ``g`` whose support is the contact set a solve on ``g`` is
+    expected to end with: the nodes within _EDGE_REACH cells beyond the envelope of ``edges``
+    (fitted on a previous solution); ``p`` (interpolated) inside, floored at 1e-12.  Only the
+    number of active-set steps depends on it, not the solution."""
+    lo = min(e[0] for e in edges) - reach * g.dx
+    hi = max(e[1] for e in edges) + reach * g.dx
+    return np.where((g.x > lo) & (g.x < hi), np.maximum(p, 1e-12), 0.0)
+
+
 def _refine(p: np.ndarray) -> np.ndarray:
     """Nested linear interpolation of a periodic nodal field onto the grid of twice the points."""
     out = np.empty(2 * p.size)
@@ -181,28 +199,42 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     # residual (relative displacement / pressure / load) accepted from each contact solve:
     # far below tol, but not below what round-off allows for very wide contacts
     accept = max(1e-8, 1e-2 * tol)
+    # the inner (GMRES) solves: 1e-10 costs ~10 % more iterations than 1e-9 for nothing at
+    # these tolerances (the results keep their residual below 1e-8); the locator's a and x_c
+    # only size the period and the grid: its inner solves are looser
+    # this and the first active sets from fitted edges (_first_set) only speed the adaptive
+    # path: a user-fixed grid keeps 1e-10 and its earlier first sets (its results stay those
+    # of earlier versions to round-off: golden values; either moves them by ~1e-11)
+    adaptive = not grid_points
+    # 1e-3 accept: tol 1e-5 keeps 1e-10 (at 2^21 points, 1e-9 moved a by 4e-6 = 0.4 tol)
+    rtol = min(max(_RTOL_FLOOR, 1e-3 * accept), _RTOL_CAP) if adaptive else _RTOL_FLOOR
     # a friction law other than Amontons: an outer fixed point around each contact solve
     # (numerics.friction), converged to the same relative accuracy as the contact solves
-    law = scene.friction.dimensionless(scene.stress_unit, scene.mu)
-    with_law = model == "exact" and not scene.friction.is_amontons
+    friction = scene.friction  # (a new FrictionLaw at each access)
+    law = friction.dimensionless(scene.stress_unit, scene.mu)
+    with_law = model == "exact" and not friction.is_amontons
     law_iterations = [0]
     # a compliant interface (linear): the contact operator is H + c (numerics.friction)
     c = scene.interface
     # or the exponential law p = p0 exp(-g/lambda): no contact set (numerics.interface)
     exponential = scene.interface_law == "exponential"
 
-    def contact(grid, p_init=None):
+    def contact(grid, p_init=None, locator=False):
         if exponential:
             s_ = solve_exponential_contact(grid, mu_contact, indenter[0], scene.interface_p0,
                                            scene.interface_lambda, film=film, p_init=p_init,
                                            rtol=accept)
             s_.soft = True
             return s_
+        # the same inner tolerances on every path (a proportional law stays Amontons bit for bit)
+        rt, acc = ((max(rtol, _LOCATOR_RTOL), max(accept, _LOCATOR_ACCEPT)) if locator and adaptive
+                   else (rtol, accept))
         if not with_law and c == 0.0:
-            return solve_contact(grid, mu_contact, indenter, film=film, p_init=p_init, accept=accept)
+            return solve_contact(grid, mu_contact, indenter, film=film, p_init=p_init, rtol=rt,
+                                 accept=acc)
         s_, _, li = solve_contact_law(grid, law if with_law else ShearLaw("amontons", mu=mu_contact),
                                       indenter, film=film, interface=c, p_init=p_init,
-                                      accept=accept, law_tol=accept)
+                                      accept=acc, rtol=rt, law_tol=accept)
         law_iterations[0] += li["law_iterations"]
         return s_
 
@@ -243,7 +275,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
                 f"~{a_bound:.2g} h) is too small for the FFT method's "
                 f"periodic grid over {L0:.3g} h (~{n0:.1e} points > 2^22): use model hertz or "
                 f"method abel")
-        sol = contact(Grid.centered(n0, L0))
+        sol = contact(Grid.centered(n0, L0), locator=True)
         fft_pairs += sol.fft_pairs
         krylov += sol.krylov_iterations
         outer += sol.iterations
@@ -289,16 +321,23 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
             # start from the locator's pressure (first level) or the previous level's
             if prev is None:
                 p_init = np.interp(g.x, sol.grid.x, sol.pressure, period=sol.grid.length)
+                if adaptive and not exponential and q["edges"]:
+                    p_init = _first_set(g, q["edges"], p_init)
             else:
-                lo, hi = min(e[0] for e in qprev["edges"]), max(e[1] for e in qprev["edges"])
-                p_init = np.where((g.x > lo) & (g.x < hi), np.maximum(_refine(prev.pressure), 1e-12),
-                                  0.0)
+                p_init = _first_set(g, qprev["edges"], _refine(prev.pressure),
+                                    _EDGE_REACH if adaptive else 0.0)
                 if exponential:  # no contact set: the whole refined pressure
                     p_init = _refine(prev.pressure)
             try:
                 cur = contact(g, p_init=p_init)
-                shifted = contact(Grid.centered(n, L, center + 0.5 * g.dx),
-                                  p_init=0.5 * (cur.pressure + np.roll(cur.pressure, -1)))
+                gs = Grid.centered(n, L, center + 0.5 * g.dx)
+                ps = 0.5 * (cur.pressure + np.roll(cur.pressure, -1))
+                q0 = _measure(cur)
+                if adaptive and not exponential and q0["edges"]:
+                    # the first active set from cur's fitted edges (the midpoint beyond an
+                    # edge has p > 0 but is mostly out of contact: one active-set step less)
+                    ps = _first_set(gs, q0["edges"], ps)
+                shifted = contact(gs, p_init=ps)
             except ConvergenceError:
                 # the coarsest automatic level may not settle (strong friction: mu = 30 at
                 # a = 29 h on 64 points); start the comparison one level finer instead
@@ -310,7 +349,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
                 krylov += s_.krylov_iterations
                 outer += s_.iterations
             residual = max(cur.residual, shifted.residual)
-            q0, q1 = _measure(cur), _measure(shifted)
+            q1 = _measure(shifted)
             qcur = _average(q0, q1)
             shift_diff = _difference(q0, q1)
             levels.append((n, qcur))
@@ -367,7 +406,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
 
     sol, q = cur, qcur
     p = sol.pressure
-    if scene.friction.is_amontons:
+    if friction.is_amontons:
         shear = None
         szz, (sxz,) = film.base_stresses(get_rfft(sol.grid.shape), sol.grid, -p, (scene.mu * p,))
     else:  # exact: the law's shear of the coupled solve; goodman: the law on the frictionless p
@@ -390,7 +429,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         "domain_difference": domain_diff,
         "tolerance_met": bool(est <= tol),
     }
-    if not scene.friction.is_amontons:
+    if not friction.is_amontons:
         info["friction_law_iterations"] = law_iterations[0]
     if c:
         info["interface_compliance"] = c
