@@ -37,7 +37,9 @@ __all__ = ["ContactSolution", "solve_contact", "solve_complementarity", "complia
            "refine_nested"]
 
 
-_NESTED_MIN = 64  # 2D grids of at least twice this per axis start from the half-resolution solution
+_NESTED_MIN = {1: 2**13, 2: 64}  # grids of at least twice this per axis start from the
+# half-resolution solution (1D: only large grids, so the automatic solver's locators and levels,
+# which are small or warm-started, keep their numbers)
 
 
 def refine_nested(p: np.ndarray) -> np.ndarray:
@@ -242,9 +244,9 @@ def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None,
     Other options as ``solve_complementarity``.
     """
     film = film or Film()
-    if p_init is None and grid.ndim > 1 and min(grid.shape) >= 2 * _NESTED_MIN \
+    if p_init is None and min(grid.shape) >= 2 * _NESTED_MIN.get(grid.ndim, 64) \
             and all(n % 2 == 0 for n in grid.shape):
-        # nested start on 2D grids: the half-resolution solution, interpolated, instead of the
+        # nested start: the half-resolution solution, interpolated, instead of the
         # half-space guess (whose extra nodes cost one active-set step per band of cells: the
         # count then grows with N); its work is added to this solve's counters
         coarse = solve_contact(Grid(tuple(n // 2 for n in grid.shape), grid.lengths, grid.origin),
