@@ -1,7 +1,9 @@
-"""spectral_contact: a rigid cylinder sliding with Amontons friction on an incompressible elastic
-film bonded to a rigid base (plane strain) -- contact pressure, base stresses, MEMS sensor view.
+"""spectral_contact: a rigid indenter sliding with friction on an elastic film bonded to a rigid
+base -- contact pressure, base stresses, MEMS sensor view; plane strain (a line indenter, the
+paper's model) or 3D (a sphere, a finite cylinder, a paraboloid, any shape).
 
-Front door: ``solve(...) -> ContactResult``; ``Scene`` holds the SI inputs;
+Front door: ``solve(...) -> ContactResult`` (``ContactResult3D`` for a 3D indenter:
+``solve(indenter="sphere", force=1.0, mu=1.0)``); ``Scene`` / ``Scene3D`` hold the SI inputs;
 ``sensor(result) -> SensorView`` is the MEMS sensor's view (imported on first use).
 ``sweep(...)`` solves the Cartesian product of options (a pandas table; the optional extra
 ``[sweep]``): imported on first use, so ``import spectral_contact`` imports neither pandas nor
@@ -9,10 +11,11 @@ dask.distributed.
 """
 from .api import METHODS, MODELS, solve
 from .errors import ConvergenceError, InputError, SpectralContactError
-from .physics.scene import PAPER_SCENE, Scene
-from .result import ContactResult
+from .physics.scene import PAPER_SCENE, Scene, Scene3D
+from .result import ContactResult, ContactResult3D
 
-__all__ = ["solve", "Scene", "PAPER_SCENE", "ContactResult", "InputError", "ConvergenceError",
+__all__ = ["solve", "Scene", "Scene3D", "PAPER_SCENE", "ContactResult", "ContactResult3D",
+           "InputError", "ConvergenceError",
            "SpectralContactError", "METHODS", "MODELS", "sensor", "SensorView", "sweep",
            "__version__"]
 __version__ = "0.1.0"
