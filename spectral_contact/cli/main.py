@@ -365,7 +365,8 @@ def build_parser() -> argparse.ArgumentParser:
     from .. import __version__
 
     parser = _Parser(prog="spectral-contact",
-                     description="Sliding cylinder on a bonded incompressible film: pressure, "
+                     description="A rigid indenter (line, sphere, finite cylinder, paraboloid) "
+                                 "sliding on a bonded elastic film: pressure, "
                                  "base stresses, MEMS view.")
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
