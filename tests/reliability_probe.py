@@ -1,6 +1,6 @@
 """Adversarial inputs for issue 11: run each through the command line and tally the outcomes.
 
-    python tools/reliability_probe.py [--jobs 2]
+    python tests/reliability_probe.py [--jobs 2]
 
 Each case: argv, the accepted exit codes, and checks applied to every run: one stderr line on a
 non-zero exit, no traceback, no NaN/Infinity in stdout, no file left behind on a non-zero exit,
