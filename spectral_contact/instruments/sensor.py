@@ -168,7 +168,7 @@ def sensor_maps(result, A_zz_mV_per_bar: float = A_ZZ_MV_PER_BAR,
     maps = result.maps()
     x, y = maps["x_m"], maps["y_m"]
     shape = (x.size, y.size)
-    lengths = tuple(v.size * (v[1] - v[0]) for v in (x, y))
+    lengths = tuple(L * result.scene.length_unit for L in result.domain_length)  # the periods [m]
     grid = Grid(shape, lengths)
     fft = get_rfft(shape)
     if max(gzz.support_radius, gxz.support_radius) > 0.5 * min(lengths):

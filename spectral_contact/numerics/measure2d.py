@@ -110,8 +110,6 @@ def measure_contact_2d(grid, pressure, gap, active) -> dict:
     j0 = int(np.argmin(np.abs(y)))
     return {
         "area": float(area if polygon is None else polygon),
-        "area_rows": float(len_x.sum() * dy),
-        "area_columns": float(len_y.sum() * dx),
         "x_min": _extreme(left, y, dy, largest=False),
         "x_max": _extreme(right, y, dy, largest=True),
         "y_min": _extreme(bottom, x, dx, largest=False),

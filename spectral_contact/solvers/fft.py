@@ -32,7 +32,7 @@ import time
 import numpy as np
 
 from ..errors import ConvergenceError, InputError
-from ..numerics.contact import solve_contact
+from ..numerics.contact import refine_nested, solve_contact
 from ..numerics.edges import fit_edges, peak
 from ..numerics.fft import get_rfft, plan_cache_info
 from ..numerics.friction import solve_contact_law
@@ -140,14 +140,6 @@ def _first_set(g, edges, p, reach=_EDGE_REACH):
     lo = min(e[0] for e in edges) - reach * g.dx
     hi = max(e[1] for e in edges) + reach * g.dx
     return np.where((g.x > lo) & (g.x < hi), np.maximum(p, 1e-12), 0.0)
-
-
-def _refine(p: np.ndarray) -> np.ndarray:
-    """Nested linear interpolation of a periodic nodal field onto the grid of twice the points."""
-    out = np.empty(2 * p.size)
-    out[0::2] = p
-    out[1::2] = 0.5 * (p + np.roll(p, -1))
-    return out
 
 
 _DOMAIN_ATTEMPTS = 3
@@ -324,10 +316,10 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
                 if adaptive and not exponential and q["edges"]:
                     p_init = _first_set(g, q["edges"], p_init)
             else:
-                p_init = _first_set(g, qprev["edges"], _refine(prev.pressure),
-                                    _EDGE_REACH if adaptive else 0.0)
-                if exponential:  # no contact set: the whole refined pressure
-                    p_init = _refine(prev.pressure)
+                refined = refine_nested(prev.pressure)
+                # exponential interface: no contact set, the whole refined pressure
+                p_init = refined if exponential else _first_set(
+                    g, qprev["edges"], refined, _EDGE_REACH if adaptive else 0.0)
             try:
                 cur = contact(g, p_init=p_init)
                 gs = Grid.centered(n, L, center + 0.5 * g.dx)

@@ -32,22 +32,22 @@ Memory is estimated before any allocation; a scene that would not fit is refused
 from __future__ import annotations
 
 import math
-import numbers
 import os
 import time
 
 import numpy as np
 
 from ..errors import ConvergenceError, InputError
-from ..numerics.contact import solve_contact
+from ..numerics.contact import refine_nested, solve_contact
 from ..numerics.fft import get_rfft, plan_cache_info
 from ..numerics.friction import solve_contact_law
 from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.measure2d import measure_contact_2d
 from ..physics.film import Film
 from ..physics.friction import ShearLaw
-from ..physics.scene import Scene3D
+from ..physics.scene import Scene3D, check_positive
 from ..result import ContactResult3D
+from .base import check_grid_points
 
 __all__ = ["solve_fft3d", "MIN_POINTS_3D", "MAX_POINTS_3D", "memory_needed", "default_tol"]
 
@@ -108,18 +108,6 @@ def _extent_difference(q, r) -> float:
     return max(abs(q[k] - r[k]) for k in ("x_min", "x_max", "y_min", "y_max")) / rad
 
 
-def _refine(p: np.ndarray) -> np.ndarray:
-    """Nested bilinear interpolation of a periodic field onto the grid of twice the points."""
-    nx, ny = p.shape
-    rows = np.empty((2 * nx, ny))
-    rows[0::2] = p
-    rows[1::2] = 0.5 * (p + np.roll(p, -1, axis=0))
-    out = np.empty((2 * nx, 2 * ny))
-    out[:, 0::2] = rows
-    out[:, 1::2] = 0.5 * (rows + np.roll(rows, -1, axis=1))
-    return out
-
-
 def _measure(sol, ind) -> dict:
     q = measure_contact_2d(sol.grid, sol.pressure, sol.gap, sol.active)
     q["indentation"] = float(sol.indentations[0])
@@ -134,22 +122,20 @@ def _plans_time() -> float:
 
 
 def _check_fixed(grid_points, domain_length):
+    """(nx, ny) and (Lx, Ly) from one value or a pair each (None passes through)."""
     if grid_points is not None:
         gp = tuple(grid_points) if np.ndim(grid_points) else (grid_points, grid_points)
-        ok = len(gp) == 2 and all(
-            isinstance(n, numbers.Real) and not isinstance(n, bool) and math.isfinite(n)
-            and float(n).is_integer() and MIN_POINTS_3D <= n <= MAX_POINTS_3D and n % 2 == 0
-            for n in gp)
-        if not ok:
+        if len(gp) != 2:
             raise InputError(f"grid_points (3D) must be one even integer in [{MIN_POINTS_3D}, "
                              f"{MAX_POINTS_3D}] or a pair [nx, ny] of them; got {grid_points!r}")
-        grid_points = tuple(int(n) for n in gp)
+        grid_points = tuple(check_grid_points(n, MIN_POINTS_3D, MAX_POINTS_3D,
+                                              "3D, points per axis", even=True) for n in gp)
     if domain_length is not None:
         dl = tuple(domain_length) if np.ndim(domain_length) else (domain_length, domain_length)
-        if len(dl) != 2 or not all(math.isfinite(v) and v > 0 for v in dl):
+        if len(dl) != 2:
             raise InputError(f"domain_length (3D) must be > 0 (one value or [Lx, Ly]); got "
                              f"{domain_length!r}")
-        domain_length = tuple(float(v) for v in dl)
+        domain_length = tuple(check_positive("domain_length", v, "h") for v in dl)
     return grid_points, domain_length
 
 
@@ -253,7 +239,7 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
             progress(f"level {i + 1}: {shape[0]} x {shape[1]} grid, "
                      f"{time.perf_counter() - t0:.1f} s")
         if prev is not None and prev.grid.shape == tuple(n // 2 for n in shape):
-            p_init = np.where(_refine(prev.pressure) > 0, _refine(prev.pressure), 0.0)
+            p_init = refine_nested(prev.pressure)
         else:
             p_init = None  # the indenter's own guess
         cur = count(contact(g, p_init=p_init))
