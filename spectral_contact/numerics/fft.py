@@ -31,7 +31,7 @@ import numpy as np
 import pyfftw
 
 __all__ = ["RealFFT", "get_rfft", "plan_cache_info", "clear_plans", "set_planner_effort",
-           "load_wisdom", "save_wisdom", "WISDOM_FILE"]
+           "load_wisdom", "save_wisdom", "WISDOM_FILE", "planning_time"]
 
 _EFFORTS = {"estimate": "FFTW_ESTIMATE", "measure": "FFTW_MEASURE", "patient": "FFTW_PATIENT"}
 _PLANNER_EFFORT = _EFFORTS.get(os.environ.get("SPECTRAL_CONTACT_FFTW", "estimate").lower(),
@@ -178,6 +178,12 @@ def save_wisdom(path: Path | None = None) -> None:
 def plan_cache_info() -> dict:
     """This thread's planned (shape, threads, effort) keys and their planning times [s]."""
     return {k: v.plan_time_s for k, v in _cache().items()}
+
+
+def planning_time() -> float:
+    """Total planning time [s] of this thread's cached plans (a solver's plan_time_s is the
+    difference across its solve)."""
+    return sum(plan_cache_info().values())
 
 
 def clear_plans() -> None:

@@ -34,7 +34,7 @@ import numpy as np
 from ..errors import ConvergenceError, InputError
 from ..numerics.contact import refine_nested, solve_contact
 from ..numerics.edges import fit_edges, peak
-from ..numerics.fft import get_rfft, plan_cache_info
+from ..numerics.fft import get_rfft, planning_time
 from ..numerics.friction import solve_contact_law
 from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.interface import solve_exponential_contact
@@ -169,10 +169,6 @@ def _level_sizes(L, a, tol, grid_points, domain_length):
     return sizes
 
 
-def _plans_time() -> float:
-    return sum(plan_cache_info().values())
-
-
 def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points: int | None = None,
               domain_length: float | None = None) -> ContactResult:
     """Solve ``scene`` with the spectral method.
@@ -183,7 +179,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     grid_points : fix N (power of two advised; >= 64); domain_length : fix L [in h].
     """
     t0 = time.perf_counter()
-    plans0 = _plans_time()
+    plans0 = planning_time()
     P = scene.P
     mu_contact = scene.mu if model == "exact" else 0.0
     film = Film(poisson=scene.poisson)  # lengths in h: thickness 1
@@ -406,7 +402,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         szz, (sxz,) = film.base_stresses(get_rfft(sol.grid.shape), sol.grid, -p, (shear,))
     fft_pairs += 2
     total = time.perf_counter() - t0
-    plan_time = _plans_time() - plans0
+    plan_time = planning_time() - plans0
     info = {
         "fft_pairs": fft_pairs,
         "krylov_iterations": krylov,

@@ -39,7 +39,7 @@ import numpy as np
 
 from ..errors import ConvergenceError, InputError
 from ..numerics.contact import refine_nested, solve_contact
-from ..numerics.fft import get_rfft, plan_cache_info
+from ..numerics.fft import get_rfft, planning_time
 from ..numerics.friction import solve_contact_law
 from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.measure2d import measure_contact_2d
@@ -117,10 +117,6 @@ def _measure(sol, ind) -> dict:
     return q
 
 
-def _plans_time() -> float:
-    return sum(plan_cache_info().values())
-
-
 def _check_fixed(grid_points, domain_length):
     """(nx, ny) and (Lx, Ly) from one value or a pair each (None passes through)."""
     if grid_points is not None:
@@ -152,7 +148,7 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     progress : optional callable(str), told about each level.
     """
     t0 = time.perf_counter()
-    plans0 = _plans_time()
+    plans0 = planning_time()
     grid_points, domain_length = _check_fixed(grid_points, domain_length)
     film = Film(poisson=scene.poisson)  # issue 14: any nu (nu = 1/2: the incompressible path)
     P = scene.P
@@ -268,7 +264,7 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     (ux, uy), delta = film.surface_displacements(fft, sol.grid, p, shear)
     counters["transforms"] += 5
     total = time.perf_counter() - t0
-    plan_time = _plans_time() - plans0
+    plan_time = planning_time() - plans0
     info = {
         "levels": [(s, h["area"], h["x_min"], h["x_max"], h["indentation"], h["pmax"])
                    for s, h in history],
