@@ -10,12 +10,15 @@ import time
 from pathlib import Path
 
 
-def parse(argv, description: str, default_out: str, engine: bool = False):
+def parse(argv, description: str, default_out: str, engine: bool = False, extra=None):
     """Arguments --quick, --out; with ``engine`` also --workers N / --serial (studies whose
-    points run through ``spectral_contact.sweep.map_tasks``)."""
+    points run through ``spectral_contact.sweep.map_tasks``); ``extra(parser)`` adds a study's
+    own."""
     p = argparse.ArgumentParser(description=description)
     p.add_argument("--quick", action="store_true", help="small version (under a minute), for CI")
     p.add_argument("--out", default=default_out, help=f"output folder (default {default_out})")
+    if extra is not None:
+        extra(p)
     if engine:
         g = p.add_mutually_exclusive_group()
         g.add_argument("--workers", type=int, default=None,

@@ -14,9 +14,11 @@ and benchmark.png.
 Then the speed targets of issue 13 that the run measures, each printed against its limit, met
 or not, and written to benchmark_targets.csv: the paper's scene at tol 1e-4 (time, and its true
 error against the Abel method at tol 1e-10), the Abel method at tol 1e-8 (time), fixed grids
-from 2^16 up in FFT-pair times (full run only).  Times are medians of >= 11 warm runs; the
-median CPU time is measured beside the wall time: a wall/CPU ratio above 1.15 means the machine
-was busy, and the run says the figures must be remade on a quiet machine.
+from 2^16 up in FFT-pair times (full run only), and the error estimate on the verification sweep
+of studies.error_estimate (never below the true error, median ratio; --quick: its 6-run version).
+Times are medians of >= 11 warm runs; the median CPU time is measured beside the wall time: a
+wall/CPU ratio above 1.15 means the machine was busy, and the run says the figures must be
+remade on a quiet machine.
 """
 from __future__ import annotations
 
@@ -72,7 +74,7 @@ def _target(name, measured, limit, unit, status=None):
     return {"target": name, "measured": measured, "limit": limit, "unit": unit, "status": status}
 
 
-def targets(scene, rows: list[dict], out) -> list[dict]:
+def targets(scene, rows: list[dict], out, quick: bool = False) -> list[dict]:
     """Issue 13's targets measured in this run, printed against their limits and written."""
     auto = rows[0]
     ref = solve(scene, method="abel", tol=1e-10)
@@ -88,6 +90,7 @@ def targets(scene, rows: list[dict], out) -> list[dict]:
                 max(r_["solve_in_fft_pairs"] for r_ in big) if big else float("nan"),
                 TARGET_FIXED_PAIRS, "FFT-pair times", None if big else "not measured (quick)"),
     ]
+    out_rows += estimate_targets(quick)
     table(out_rows, out / "benchmark_targets.csv",
           f"Issue 13 targets (medians of {TARGET_REPEATS} warm runs; FFT pair at N = {auto['N']}: "
           f"{auto['fft_pair_us']:.1f} us in this run)")
@@ -98,6 +101,30 @@ def targets(scene, rows: list[dict], out) -> list[dict]:
         print(f"the machine was busy (wall/CPU {ratio:.2f} > {BUSY_RATIO}): rerun on a quiet "
               f"machine for the figures")
     return out_rows
+
+
+def estimate_targets(quick: bool) -> list[dict]:
+    """The error estimate against the true error on studies.error_estimate's verification sweep
+    (a/h 0.05 ... 22, mu_d 0 ... 10, tol 1e-2 ... 1e-5, against the Abel method; --quick: its
+    6-run version), in this process."""
+    from argparse import Namespace
+
+    from . import error_estimate
+
+    rows = error_estimate.sweep_rows(Namespace(serial=True, quick=True, workers=None),
+                                     error_estimate.QUICK if quick else error_estimate.FULL)
+    s = error_estimate.summary(rows)
+    tight = [r["ratio"] for r in rows if r["status"] == "ok" and r["tol"] <= 1e-4]
+    where = f"verification sweep, {s['runs']} runs"
+    out = [_target(f"error estimate below the true error ({where})", s["below"] + s["failed"], 0,
+                   "runs (incl. failed)"),
+           _target(f"true error / tol, largest ({where})", s["true_over_tol_max"], 1.0, "ratio"),
+           _target(f"error estimate / true error, median ({where})", s["ratio_median"], 3.0,
+                   "ratio")]
+    if tight:
+        out.append(_target(f"error estimate / true error, median at tol <= 1e-4 ({len(tight)} runs)",
+                           float(np.median(tight)), 3.0, "ratio"))
+    return out
 
 
 def fft_pair_time(n: int, repeats: int = 21) -> float:
@@ -172,7 +199,7 @@ def main(argv=None) -> int:
     print(f"GMRES iterations at N = {last['N']}: {last['gmres_its']} vs {base['gmres_its']} at "
           f"N = {base['N']} (ratio {last['gmres_its'] / base['gmres_its']:.2f}); "
           f"active-set iterations {last['active_set_its']} vs {base['active_set_its']}")
-    targets(scene, rows, out)
+    targets(scene, rows, out, args.quick)
     try:
         import matplotlib
 
