@@ -14,9 +14,12 @@ and benchmark.png.
 Then the speed targets of issue 13 that the run measures, each printed against its limit, met
 or not, and written to benchmark_targets.csv: the paper's scene at tol 1e-4 (time, and its true
 error against the Abel method at tol 1e-10), the Abel method at tol 1e-8 (time), fixed grids
-from 2^16 up in FFT-pair times (full run only).  Times are medians of >= 11 warm runs; the
-median CPU time is measured beside the wall time: a wall/CPU ratio above 1.15 means the machine
-was busy, and the run says the figures must be remade on a quiet machine.
+from 2^16 up in FFT-pair times (full run only), and >= 10x faster than the peers (frictionless,
+fixed grids 2^12, 2^14, 2^16 at equal pressure accuracy; 2^12 with --quick; "not measured (peer
+not installed)" without them: ``studies.peers.benchmark_peers``, detail in benchmark_peers.csv).
+Times are medians of >= 11 warm runs; the median CPU time is measured beside the wall time: a
+wall/CPU ratio above 1.15 means the machine was busy, and the run says the figures must be
+remade on a quiet machine.
 """
 from __future__ import annotations
 
@@ -33,6 +36,7 @@ from spectral_contact.numerics.grid import Grid
 from spectral_contact.physics.indenters import Cylinder
 
 from ._common import median_time, parse, progress, table
+from .peers import benchmark_peers
 
 TARGET_REPEATS = 11        # medians of >= 11 warm runs for the targets
 TARGET_PAPER_MS = 3.0      # the paper's scene, FFT, tol 1e-4
@@ -72,7 +76,7 @@ def _target(name, measured, limit, unit, status=None):
     return {"target": name, "measured": measured, "limit": limit, "unit": unit, "status": status}
 
 
-def targets(scene, rows: list[dict], out) -> list[dict]:
+def targets(scene, rows: list[dict], out, quick: bool = False) -> list[dict]:
     """Issue 13's targets measured in this run, printed against their limits and written."""
     auto = rows[0]
     ref = solve(scene, method="abel", tol=1e-10)
@@ -88,6 +92,7 @@ def targets(scene, rows: list[dict], out) -> list[dict]:
                 max(r_["solve_in_fft_pairs"] for r_ in big) if big else float("nan"),
                 TARGET_FIXED_PAIRS, "FFT-pair times", None if big else "not measured (quick)"),
     ]
+    out_rows += benchmark_peers(out, quick, TARGET_REPEATS)  # ">= 10x the peers" (studies/peers.py)
     table(out_rows, out / "benchmark_targets.csv",
           f"Issue 13 targets (medians of {TARGET_REPEATS} warm runs; FFT pair at N = {auto['N']}: "
           f"{auto['fft_pair_us']:.1f} us in this run)")
@@ -172,7 +177,7 @@ def main(argv=None) -> int:
     print(f"GMRES iterations at N = {last['N']}: {last['gmres_its']} vs {base['gmres_its']} at "
           f"N = {base['N']} (ratio {last['gmres_its'] / base['gmres_its']:.2f}); "
           f"active-set iterations {last['active_set_its']} vs {base['active_set_its']}")
-    targets(scene, rows, out)
+    targets(scene, rows, out, args.quick)
     try:
         import matplotlib
 
