@@ -464,7 +464,7 @@ def fft_pair_time(n: int, repeats: int = 21) -> float:
     return median_time(lambda: f.apply(a, sym), repeats, warm=True)
 
 
-def _fixed_solvers(operator: str, grid: Grid, P: float, symbol, d_scale, p_scale, versions):
+def _fixed_solvers(operator: str, grid: Grid, P: float, symbol, d_scale, p_scale):
     """name -> (package, make(tol) -> run) for one operator ("film" or "half-space")."""
     film = operator == "film"
     ind = [Cylinder(0.0, P)]
@@ -545,7 +545,7 @@ def fixed_grid_comparison(exps=FIXED_EXPS, level: float = LEVEL, repeats: int = 
             ref = solve_contact(grid, 0.0, [Cylinder(0.0, P)], rtol=REF_RTOL, film=film)
             p_ref = ref.pressure
             solvers = _fixed_solvers(operator, grid, P, sym, float(ref.indentations[0]),
-                                     float(p_ref.max()), versions)
+                                     float(p_ref.max()))
             chosen, lines = {}, {}
             for name, (pkg, make) in solvers.items():
                 version = "this" if pkg == "this" else versions[pkg]
