@@ -14,8 +14,11 @@ and benchmark.png.
 Then the speed targets of issue 13 that the run measures, each printed against its limit, met
 or not, and written to benchmark_targets.csv: the paper's scene at tol 1e-4 (time, and its true
 error against the Abel method at tol 1e-10), the Abel method at tol 1e-8 (time), fixed grids
-from 2^16 up in FFT-pair times (full run only), and the error estimate on the verification sweep
-of studies.error_estimate (never below the true error, median ratio; --quick: its 6-run version).
+from 2^16 up in FFT-pair times (full run only), the error estimate on the verification sweep
+of studies.error_estimate (never below the true error, median ratio; --quick: its 6-run version),
+and >= 10x faster than the peers (frictionless, fixed grids 2^12, 2^14, 2^16 at equal pressure
+accuracy; 2^12 with --quick; "not measured (peer not installed)" without them:
+``studies.peers.benchmark_peers``, detail in benchmark_peers.csv).
 Times are medians of >= 11 warm runs; the median CPU time is measured beside the wall time: a
 wall/CPU ratio above 1.15 means the machine was busy, and the run says the figures must be
 remade on a quiet machine.
@@ -35,6 +38,7 @@ from spectral_contact.numerics.grid import Grid
 from spectral_contact.physics.indenters import Cylinder
 
 from ._common import median_time, parse, progress, table
+from .peers import benchmark_peers
 
 TARGET_REPEATS = 11        # medians of >= 11 warm runs for the targets
 TARGET_PAPER_MS = 3.0      # the paper's scene, FFT, tol 1e-4
@@ -91,6 +95,7 @@ def targets(scene, rows: list[dict], out, quick: bool = False) -> list[dict]:
                 TARGET_FIXED_PAIRS, "FFT-pair times", None if big else "not measured (quick)"),
     ]
     out_rows += estimate_targets(quick)
+    out_rows += benchmark_peers(out, quick, TARGET_REPEATS)  # ">= 10x the peers" (studies/peers.py)
     table(out_rows, out / "benchmark_targets.csv",
           f"Issue 13 targets (medians of {TARGET_REPEATS} warm runs; FFT pair at N = {auto['N']}: "
           f"{auto['fft_pair_us']:.1f} us in this run)")

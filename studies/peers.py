@@ -5,11 +5,11 @@
 The peers are optional (``pip install contactmechanics tamaas``); each one that is missing is
 reported "absent" and the study still does what it can (exit status 0).
 
-Two cases, frictionless (mu_d = 0: neither peer has Amontons coupling):
+Four cases, frictionless (mu_d = 0: neither peer has Amontons coupling):
 
 A. "film": the paper's scene at mu_d = 0 (a/h_hertz = 1.68), the film on its rigid base.
    Peer: ContactMechanics ``PeriodicFFTElasticHalfSpace`` with ``thickness`` = h (Carbone &
-   Mangialardi's layer on a rigid flat) and poisson = 0.499999 (its q = 0 stiffness is
+   Mangialardi's layer on a rigid flat) and poisson = 1/2 - 1e-8 (its q = 0 stiffness is
    E (1-nu)/((1-2nu)(1+nu)) / h, infinite at nu = 1/2; ours is H(0) = 0).  Its finite-thickness
    Green's function is implemented for 2D grids only (a 1D grid ignores ``thickness``: it is
    the half-space line contact), so the film runs on a y-invariant strip of ny = 1 point (one
@@ -24,7 +24,19 @@ B. "thick film vs half-space": a/h_hertz = 0.02 (0.05 with --quick).  Peers: tam
    Polonsky-Keer-Rey solver, and ContactMechanics on a 1D grid (half-space).  They solve the
    half-space, we solve the film: the expected difference is the film's, ~0.5 (a/h)^2 in a.
 
-Same scene, same grid: our automatic solve at ``tol`` fixes the period L and the number of
+D. "fixed grids" (issue 13's targets, ``fixed_grid_comparison``; what studies.benchmark runs):
+   N = 2^12, 2^14, 2^16 (2^12 with --quick) on the period of case A, the paper's load, two
+   operators, each the same symbol for every solver: the film (ours; tamaas' PKR with the film's
+   symbol registered from Python as a ``tamaas.IntegralOperator`` subclass; ContactMechanics'
+   layer) and its half-space limit (ours through ``Film(thickness=1e12)``, whose symbol is
+   1/(2|k|) to the last bit; tamaas' own Westergaard operator and, 2.5-3x faster, the same symbol
+   registered from Python; ContactMechanics 1D).  tamaas runs on one thread, as ours.  Equal
+   accuracy: each solver at the loosest decade of its own tolerance whose pressure is within
+   1e-6 max p of ours at rtol 1e-13; medians of interleaved warm runs of the solve call; ours
+   also in FFT-pair times of that N.  A target compares us with each peer's fastest
+   configuration.  Writes peers_fixed.csv.
+
+Same scene, same grid (cases A-C): our automatic solve at ``tol`` fixes the period L and the number of
 points N (its final level); every solver, ours included (``numerics.contact.solve_contact``,
 cold start), then solves on that grid.  Units: ours (lengths h, stresses E h/6R = G h/2R,
 displacements h^2/2R, profile x^2): E = 3, nu = 1/2 (E* = 4) for the peers, so that all
@@ -40,7 +52,7 @@ solve call only; iterations: ours active-set (GMRES matvecs), ContactMechanics C
 tamaas PKR iterations (read from its log).  Ours starts from its default Hertz guess,
 the peers from zero (their defaults).  Compared: half-width from the contact nodes
 (N_contact dx / 2, the same rule for all; ours also sub-grid), peak pressure, and
-max |p - p_ours| / max p_ours.  Writes peers.csv and peers.png.
+max |p - p_ours| / max p_ours.  Writes peers.csv, peers.png and peers_fixed.csv.
 """
 from __future__ import annotations
 
@@ -65,6 +77,11 @@ from ._common import parse, progress, table
 
 RTOL = 1e-10
 REPEATS = 3
+CM_INCOMPRESSIBLE_POISSON = 0.5 - 1e-8
+"""ContactMechanics' layer needs nu < 1/2: at 1/2 - 1e-8 its symbol is the incompressible
+film's to 7e-7 for k > 0 (pressures agree to ~7e-8 of p_max; at 0.499999, 7e-5 and 1.9e-5); its
+k = 0 compliance 2e-8 only shifts the indentation.  Closer to 1/2 (1/2 - 1e-10: k = 0 stiffness
+5e9) its constrained CG stopped after one step at a uniform pressure on case B's grid."""
 
 
 def peers_available() -> dict:
@@ -73,16 +90,27 @@ def peers_available() -> dict:
     try:
         import ContactMechanics
 
-        out["ContactMechanics"] = getattr(ContactMechanics, "__version__", "?")
+        out["ContactMechanics"] = _dist_version("ContactMechanics", ContactMechanics)
     except Exception as exc:  # ImportError or a broken install: report, never fail
         out["ContactMechanics"] = f"absent ({type(exc).__name__}: {exc})"
     try:
         import tamaas
 
-        out["tamaas"] = getattr(tamaas, "__version__", "?")
+        out["tamaas"] = _dist_version("tamaas", tamaas)
     except Exception as exc:
         out["tamaas"] = f"absent ({type(exc).__name__}: {exc})"
     return out
+
+
+def _dist_version(dist: str, module) -> str:
+    """The installed distribution's version (ContactMechanics' own ``__version__`` can report
+    the git state of the current directory instead)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version(dist)
+    except PackageNotFoundError:
+        return getattr(module, "__version__", "?")
 
 
 def present(versions, name) -> bool:
@@ -149,7 +177,7 @@ def ours_runner(grid: Grid, P: float, nu: float = 0.5):
 
 
 def contactmechanics_runner(grid: Grid, P: float, film: bool, d_scale: float, p_scale: float,
-                            nu: float = 0.5):
+                            nu: float = 0.5, tol: float = RTOL):
     from ContactMechanics import PeriodicFFTElasticHalfSpace
     from ContactMechanics.Optimization import constrained_conjugate_gradients
 
@@ -157,7 +185,7 @@ def contactmechanics_runner(grid: Grid, P: float, film: bool, d_scale: float, p_
     if film:  # layer Green's function exists for 2D grids only: y-invariant strip, ny = 1
         if nu == 0.5:
             sub = PeriodicFFTElasticHalfSpace((n, 1), 3.0, physical_sizes=(L, 1.0), thickness=1.0,
-                                              poisson=0.499999)
+                                              poisson=CM_INCOMPRESSIBLE_POISSON)
         else:  # compressible: E = 2 G (1 + nu) with G = 1, the core's stress unit
             sub = PeriodicFFTElasticHalfSpace((n, 1), 2.0 * (1.0 + nu), physical_sizes=(L, 1.0),
                                               thickness=1.0, poisson=nu)
@@ -169,8 +197,8 @@ def contactmechanics_runner(grid: Grid, P: float, film: bool, d_scale: float, p_
         sub = PeriodicFFTElasticHalfSpace((n,), 4.0, physical_sizes=(L,))
         heights = UniformLineScan(-(grid.x**2), L, periodic=True)
         force = P
-    kw = dict(external_force=force, pentol=RTOL * d_scale,
-              forcetol=RTOL * p_scale * sub.area_per_pt, thermotol=RTOL, maxiter=100000)
+    kw = dict(external_force=force, pentol=tol * d_scale,
+              forcetol=tol * p_scale * sub.area_per_pt, thermotol=tol, maxiter=100000)
 
     def run():
         t = time.perf_counter()
@@ -203,7 +231,41 @@ def _run_capturing_output(fn):
     return out, text
 
 
-def tamaas_runner(grid: Grid, P: float):
+def tamaas_operator(model, n: int, symbol: np.ndarray):
+    """A tamaas integral operator defined in Python (tamaas 2.9: a subclass of
+    ``tamaas.IntegralOperator`` put in ``model.operators[name]``, then
+    ``PolonskyKeerRey.setIntegralOperator(name)``): displacement^ = symbol * traction^, by the
+    same planned pyfftw transform pair as ours (its C++ Westergaard operator uses FFTW too).
+    ``symbol`` in our units with tamaas' E, nu set as below (E* = 4): 1/(2|k|) is Westergaard's."""
+    import tamaas as tm
+
+    fft = get_rfft(n)
+
+    class SymbolOperator(tm.IntegralOperator):
+        def __init__(self, model):
+            super().__init__(model)
+            self.calls = 0
+
+        def apply(self, inp, out):
+            self.calls += 1
+            out[...] = fft.apply(inp.reshape(n), symbol).reshape(out.shape)
+
+        def getKind(self):
+            return tm.IntegralOperator.neumann
+
+        def getType(self):
+            return tm.model_type.basic_1d
+
+        def updateFromModel(self):
+            pass
+
+    return SymbolOperator(model)
+
+
+def tamaas_runner(grid: Grid, P: float, symbol: np.ndarray | None = None, tol: float = RTOL,
+                  count: bool = True):
+    """tamaas' Polonsky-Keer-Rey solver on a basic_1d model: its Westergaard (half-space)
+    operator, or with ``symbol`` an operator registered from Python (``tamaas_operator``)."""
     import tamaas as tm
 
     n, L = grid.n, grid.length
@@ -214,47 +276,54 @@ def tamaas_runner(grid: Grid, P: float):
         tm.set_log_level(tm.LogLevel.info if log else tm.LogLevel.error)
         model = tm.ModelFactory.createModel(tm.model_type.basic_1d, [L], [n])
         model.E, model.nu = 3.0, 0.5  # E* = E/(1-nu^2) = 4: compliance 1/(2|k|)
-        solver = tm.PolonskyKeerRey(model, heights, RTOL)
+        solver = tm.PolonskyKeerRey(model, heights, tol)
+        op = None
+        if symbol is not None:
+            op = tamaas_operator(model, n, symbol)
+            model.operators["spectral_contact_symbol"] = op
+            solver.setIntegralOperator("spectral_contact_symbol")
         solver.max_iter = 100000
         if log:
             solver.dump_freq = 1
         t = time.perf_counter()
         err = solver.solve(P / L)  # mean pressure
         dt = time.perf_counter() - t
-        return np.asarray(model.traction, dtype=float).reshape(n), float(err), dt
+        calls = op.calls if op is not None else None
+        return np.asarray(model.traction, dtype=float).reshape(n), float(err), dt, calls
 
     its = None
-    try:  # the iteration count, from its log (a separate, untimed solve)
-        _, text = _run_capturing_output(lambda: solve_once(True))
-        nums = [int(m.group(1)) for m in re.finditer(r"^\s*(\d+)\s+\S+\s+\S+\s*$", text, re.M)]
-        its = max(nums) if nums else None
-    except Exception:  # the count is a nicety; never lose the comparison for it
-        its = None
-    finally:
-        tm.set_log_level(tm.LogLevel.error)
+    if count:
+        try:  # the iteration count, from its log (a separate, untimed solve)
+            _, text = _run_capturing_output(lambda: solve_once(True))
+            nums = [int(m.group(1)) for m in re.finditer(r"^\s*(\d+)\s+\S+\s+\S+\s*$", text, re.M)]
+            its = max(nums) if nums else None
+        except Exception:  # the count is a nicety; never lose the comparison for it
+            its = None
+        finally:
+            tm.set_log_level(tm.LogLevel.error)
 
     def run():
-        p, err, dt = solve_once(False)
-        return {"p": p, "t": dt, "its": its if its is not None else "n/a", "cost": "n/a",
-                "note": f"own error {err:.1e}"}
+        p, err, dt, calls = solve_once(False)
+        return {"p": p, "t": dt, "its": its if its is not None else "n/a",
+                "cost": calls if calls is not None else "n/a", "note": f"own error {err:.1e}"}
     return run
 
 
-def time_round_robin(runners: dict, repeats: int = REPEATS) -> dict:
+def time_round_robin(runners: dict, repeats: int = REPEATS, stat: str = "min") -> dict:
     """Warm every runner, then run them in turn ``repeats`` times; keep each one's last result
-    with its fastest time (interleaving and the minimum make the ratios robust to the load of a
-    shared machine)."""
+    with its fastest (``stat`` "min") or median ("median") time (interleaving makes the ratios
+    robust to the load of a shared machine)."""
     out = {}
     for name, run in runners.items():
         out[name] = run()
-    best = {name: float("inf") for name in runners}
+    times = {name: [] for name in runners}
     for _ in range(repeats):
         for name, run in runners.items():
             res = run()
-            best[name] = min(best[name], res["t"])
+            times[name].append(res["t"])
             out[name] = res
     for name in runners:
-        out[name]["t"] = best[name]
+        out[name]["t"] = float(min(times[name]) if stat == "min" else np.median(times[name]))
     return out
 
 
@@ -370,6 +439,192 @@ def _plot(cases, path):
     plt.close(fig)
 
 
+# --- fixed grids at equal accuracy: issue 13's peer targets ------------------------------------
+FIXED_EXPS = (12, 14, 16)
+LEVEL = 1e-6
+"""Accuracy every solver must reach: max |p - p_ref| <= LEVEL max p_ref, p_ref ours at REF_RTOL."""
+REF_RTOL = 1e-13
+TOLERANCES = tuple(10.0**-e for e in range(4, 13))
+"""Each solver's own tolerance, loosest first: the first that reaches LEVEL is timed."""
+SPEEDUP = 10.0
+HALF_SPACE = Film(thickness=1e12)
+"""The half-space limit through our own film code: with h = 1e12 every grid mode has K = |k| h
+> 1e10, where F0 = 1 to the last bit, so its symbol is 1/(2|k|) (0 at k = 0), Westergaard's:
+the same operator as the peers' half-spaces."""
+OURS_FIXED = "spectral_contact"
+
+
+def fft_pair_time(n: int, repeats: int = 21) -> float:
+    """Median time [s] of one planned rfft/irfft pair of n points (our matrix-vector product)."""
+    from ._common import median_time
+
+    f = get_rfft(n)
+    a = np.random.default_rng(0).random(n)
+    sym = np.ones(n // 2 + 1, complex)
+    return median_time(lambda: f.apply(a, sym), repeats, warm=True)
+
+
+def _fixed_solvers(operator: str, grid: Grid, P: float, symbol, d_scale, p_scale):
+    """name -> (package, make(tol) -> run) for one operator ("film" or "half-space")."""
+    film = operator == "film"
+    ind = [Cylinder(0.0, P)]
+
+    def ours(tol):
+        def run():
+            t = time.perf_counter()
+            sol = solve_contact(grid, 0.0, ind, rtol=tol, film=None if film else HALF_SPACE)
+            dt = time.perf_counter() - t
+            its = f"{sol.iterations}+{sol.coarse_iterations} ({sol.krylov_iterations}+" \
+                  f"{sol.coarse_krylov_iterations})"
+            return {"p": sol.pressure, "t": dt, "its": its, "cost": sol.fft_pairs, "note": ""}
+        return run
+
+    out = {OURS_FIXED: ("this", ours)}
+    cm = "ContactMechanics layer (2D strip, ny=1)" if film else "ContactMechanics half-space (1D)"
+    out[cm] = ("ContactMechanics",
+               lambda tol: contactmechanics_runner(grid, P, film, d_scale, p_scale, tol=tol))
+    if film:
+        out["tamaas PKR (film operator from Python)"] = (
+            "tamaas", lambda tol: tamaas_runner(grid, P, symbol, tol=tol, count=False))
+    else:  # its own Westergaard operator, and the same symbol from Python (faster: 2.5-3x)
+        out["tamaas PKR (Westergaard)"] = (
+            "tamaas", lambda tol: tamaas_runner(grid, P, None, tol=tol, count=True))
+        out["tamaas PKR (half-space operator from Python)"] = (
+            "tamaas", lambda tol: tamaas_runner(grid, P, symbol, tol=tol, count=False))
+    return out
+
+
+def _loosest_meeting(make, p_ref, level):
+    """(tol, run, error, last exception) for the loosest tolerance reaching ``level``; tol None
+    when none does (error: the best reached)."""
+    best, last_exc = float("inf"), None
+    for tol in TOLERANCES:
+        try:
+            run = make(tol)
+            p = run()["p"]
+        except Exception as exc:  # a loose tolerance may fail to converge: try the next one
+            last_exc = exc
+            continue
+        err = float(np.max(np.abs(p - p_ref)) / p_ref.max())
+        best = min(best, err)
+        if err <= level:
+            return tol, run, err, None
+    return None, None, best, last_exc
+
+
+def fixed_grid_comparison(exps=FIXED_EXPS, level: float = LEVEL, repeats: int = 5,
+                          versions: dict | None = None, operators=("film", "half-space"),
+                          log=print) -> list[dict]:
+    """Frictionless, fixed grids N = 2^e on the period of the paper's scene (our automatic
+    solve at mu_d = 0, tol 1e-4), the paper's load; two operators: the film (ours; tamaas' PKR
+    with the film's symbol registered from Python; ContactMechanics' layer) and the half-space
+    limit (ours with HALF_SPACE; tamaas' Westergaard and the same symbol registered from Python;
+    ContactMechanics 1D): the same discrete
+    problem for every solver.  Equal accuracy: each solver runs at the loosest of its own
+    tolerances (TOLERANCES) whose pressure is within ``level`` max p_ref of p_ref, our solve at
+    REF_RTOL; then times are medians of ``repeats`` interleaved warm runs of the solve call only
+    (cold starts: ours from its Hertz guess and nested half-resolution solves, the peers from
+    zero).  One row per solver: tolerance, dp_ref, the common residual, iterations (ours: final
+    + coarser levels, active-set (GMRES)), time, time / ours, time in FFT-pair times of that N
+    (measured in the same run)."""
+    versions = versions or peers_available()
+    if present(versions, "tamaas"):
+        import tamaas
+
+        tamaas.initialize(1)  # one thread, as ours (issue 13: one core)
+    scene = Scene(mu=0.0)
+    r = solve(scene, tol=1e-4)
+    L, P = r.domain_length, scene.P
+    rows = []
+    for operator in operators:
+        for e in exps:
+            n = 2**e
+            grid = Grid.centered(n, L, 0.0)
+            film = Film() if operator == "film" else HALF_SPACE
+            sym = film.surface_compliance((np.ones_like(grid.k),), grid.k, 0.0).real
+            ref = solve_contact(grid, 0.0, [Cylinder(0.0, P)], rtol=REF_RTOL, film=film)
+            p_ref = ref.pressure
+            solvers = _fixed_solvers(operator, grid, P, sym, float(ref.indentations[0]),
+                                     float(p_ref.max()))
+            chosen, lines = {}, {}
+            for name, (pkg, make) in solvers.items():
+                version = "this" if pkg == "this" else versions[pkg]
+                base = {"operator": operator, "N": n, "L_h": L, "solver": name, "version": version}
+                if pkg != "this" and not present(versions, pkg):
+                    lines[name] = {**base, "status": "not measured (peer not installed)"}
+                    continue
+                tol, run, err, exc = _loosest_meeting(make, p_ref, level)
+                if tol is None:
+                    why = f"; last failure {type(exc).__name__}: {exc}"[:100] if exc else ""
+                    lines[name] = {**base, "dp_ref": err,
+                                   "status": f"not measured (best {err:.1e} > {level:g}{why})"}
+                    continue
+                chosen[name] = run
+                lines[name] = {**base, "tol": tol, "dp_ref": err, "status": "timed"}
+            res = time_round_robin(chosen, repeats, stat="median") if chosen else {}
+            pair = fft_pair_time(n)
+            t0 = res[OURS_FIXED]["t"] if OURS_FIXED in res else float("nan")
+            for name, line in lines.items():
+                row = {"operator": operator, "N": n, "L_h": L, "solver": name,
+                       "version": line["version"], "tol": line.get("tol", float("nan")),
+                       "dp_ref": line.get("dp_ref", float("nan")), "residual": float("nan"),
+                       "iterations": "-", "fft_pairs": "-", "time_ms": float("nan"),
+                       "time_ratio": float("nan"),
+                       "time_in_fft_pairs": float("nan"), "fft_pair_us": 1e6 * pair,
+                       "status": line["status"]}
+                if name in res:
+                    x = res[name]
+                    row.update(residual=common_residual(grid, x["p"], P, sym), iterations=x["its"],
+                               fft_pairs=x["cost"],
+                               time_ms=1e3 * x["t"], time_ratio=x["t"] / t0,
+                               time_in_fft_pairs=x["t"] / pair)
+                rows.append(row)
+            if log:
+                log(f"  {operator} N = 2^{e}: " + "; ".join(
+                    f"{r_['solver']} {r_['time_ratio']:.3g}x" for r_ in rows[-len(lines):]
+                    if r_["solver"] != OURS_FIXED))
+    return rows
+
+
+def peer_targets(rows: list[dict], level: float = LEVEL) -> list[dict]:
+    """Issue 13's peer targets from ``fixed_grid_comparison`` rows, in the benchmark's target
+    format (target, measured, limit, unit, status): for each operator, N and peer, the peer's
+    fastest configuration's time / our time >= SPEEDUP, met or not; "not measured (...)" when
+    the peer is absent or never reached ``level``."""
+    groups = {}
+    for r_ in rows:
+        if r_["solver"] != OURS_FIXED:
+            groups.setdefault((r_["operator"], r_["N"], r_["solver"].split()[0]), []).append(r_)
+    out = []
+    for (operator, n, peer), rs in groups.items():
+        e = int(round(math.log2(n)))
+        name = (f"vs {peer} {operator} N=2^{e} (frictionless, same grid, p to {level:g} p_max): "
+                f"peer time / our time")
+        timed = [r_ for r_ in rs if r_["status"] == "timed"]
+        if timed:
+            ratio = min(r_["time_ratio"] for r_ in timed)
+            status = "met" if ratio >= SPEEDUP else "not met"
+        else:
+            ratio, status = float("nan"), rs[0]["status"]
+        out.append({"target": name, "measured": ratio, "limit": SPEEDUP, "unit": "x (>= limit)",
+                    "status": status})
+    return out
+
+
+def benchmark_peers(out, quick: bool = False, repeats: int = 11) -> list[dict]:
+    """What studies.benchmark calls: the fixed-grid comparison (quick: N = 2^12 only, 3 runs)
+    printed and written to benchmark_peers.csv in ``out``, and its target rows."""
+    versions = peers_available()
+    rows = fixed_grid_comparison((12,) if quick else FIXED_EXPS, repeats=3 if quick else repeats,
+                                 versions=versions)
+    table(rows, out / "benchmark_peers.csv",
+          f"Peers, frictionless, fixed grids, each solver at the loosest of its tolerances giving "
+          f"p within {LEVEL:g} p_max of ours at rtol {REF_RTOL:g}; medians of "
+          f"{3 if quick else repeats} interleaved warm runs; "
+          + ", ".join(f"{k} {v}" for k, v in versions.items()))
+    return peer_targets(rows)
+
+
 def main(argv=None) -> int:
     args, out = parse(argv, __doc__.splitlines()[0], "out/peers")
     versions = peers_available()
@@ -415,6 +670,13 @@ def main(argv=None) -> int:
                       f"pressures agree to {r['dp_rel']:.2e} of p_max"
                       + (f" (to the Hertz closed form: {r['dp_hertz']:.2e})"
                          if r["dp_hertz"] == r["dp_hertz"] else ""))
+    fixed = fixed_grid_comparison((12,) if args.quick else FIXED_EXPS,
+                                  repeats=3 if args.quick else 5, versions=versions)
+    table(fixed, out / "peers_fixed.csv",
+          f"D: frictionless, fixed grids, each solver at the loosest tolerance giving p within "
+          f"{LEVEL:g} max p of ours at rtol {REF_RTOL:g}; time_ratio = time / ours")
+    for t in peer_targets(fixed):
+        print(f"{t['target']}: {t['measured']:.3g} (>= {t['limit']:g}: {t['status']})")
     try:
         _plot(plots, out / "peers.png")
         print(f"(written {out / 'peers.png'})")

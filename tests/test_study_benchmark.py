@@ -25,7 +25,16 @@ def test_benchmark_quick_through_the_cli(tmp_path, capsys):
     # (commas inside text cells are written as ";": plain CSV readers split on commas)
     targets = {r["target"].replace(";", ","): r
                for r in csv.DictReader((tmp_path / "benchmark_targets.csv").open())}
+    peer = {k: targets.pop(k) for k in list(targets) if k.startswith("vs ")}
     assert len(targets) >= 4 and "wall / CPU time" in printed
+    # the peers' targets (studies.peers): film and half-space, each peer, N = 2^12 with --quick
+    assert len(peer) == 4 and all("N=2^12" in k for k in peer)
+    for r in peer.values():
+        assert float(r["limit"]) == 10
+        if r["status"] in ("met", "not met"):  # a speed-up: met when the ratio reaches the limit
+            assert (r["status"] == "met") == (float(r["measured"]) >= 10)
+        else:
+            assert r["status"].startswith("not measured")
     for r in targets.values():
         assert r["status"] in ("met", "not met", "not measured (quick)")
         if r["status"] != "not measured (quick)":
