@@ -90,8 +90,8 @@ def compliance_operator(shape: tuple, lengths: tuple, mu: float, film: Film = Fi
 
 def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray, loads, *,
                           p_init: np.ndarray, rtol: float = 1e-10, accept: float | None = None,
-                          max_outer: int = 200, max_krylov: int = 2000, grid: Grid | None = None
-                          ) -> ContactSolution:
+                          max_outer: int = 200, max_krylov: int = 2000, grid: Grid | None = None,
+                          search_rtol: float | None = None) -> ContactSolution:
     """Contact of rigid bodies of heights ``f`` (one field on the grid: each node's height above
     the apex of the body that ``owner`` says it belongs to) pressed with ``loads`` (one per body,
     dimensionless; a body with load 0 is lifted off) on the surface of compliance ``op``.
@@ -101,6 +101,10 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
     accept : largest final residual (max-norm, relative: gap, penetration, tension, load)
              accepted; default max(1e3 rtol, 1e-8).  Beyond it ConvergenceError is raised.
     grid   : reported on the solution (default ``op.grid``: the solution's fields have its shape).
+    search_rtol : optional looser inner tolerance while the active set is being searched: the
+             outer iterations solve to it until the set repeats, then to ``rtol`` (at least one
+             more solve, whose set must hold as before).  Only the path changes, not what is
+             accepted: for a far first guess (a locator), whose first sets are far off anyway.
     """
     shape = op.grid.shape
     cell = op.grid.cell
@@ -128,6 +132,7 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
     seen = set()
     history = []
     krylov_total = 0
+    rt = max(rtol, search_rtol or rtol)  # the inner tolerance of this outer iteration
     for outer in range(1, max_outer + 1):  # noqa: B007 (the count is reported after the loop)
         idx = np.flatnonzero(active)
         own = owner[idx]
@@ -176,7 +181,7 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
 
         b = np.concatenate([-f[idx], np.where(loaded, loads, 0.0) * wload])
         v0 = np.concatenate([p[idx], d])
-        v, its, rel_res = gmres(matvec, psolve, b, v0, rtol=rtol, maxiter=max_krylov)
+        v, its, rel_res = gmres(matvec, psolve, b, v0, rtol=rt, maxiter=max_krylov)
         krylov_total += its
         p = np.zeros(n)
         p[idx] = v[:ni]
@@ -188,10 +193,17 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         # exactly when the warm-started GMRES has nothing to do (drop only tensile nodes)
         new = ((active & (p >= 0)) | (~active & (gap < 0))) & can_touch
         history.append((int(active.sum()), float(rel_res), its))
-        if np.array_equal(new, active):
-            break
+        settled = np.array_equal(new, active)
         key = new.tobytes()
-        if key in seen:
+        if rt > rtol and (settled or key in seen):
+            # the search has settled (or cycles) at the loose tolerance: from here on, rtol
+            rt = rtol
+            seen.clear()
+            if settled:
+                continue
+        elif settled:
+            break
+        elif key in seen:
             # cycling between sets: a degenerate edge node, slightly penetrating when inactive
             # and slightly tensile when active.  Stop here; the residual check below accepts
             # the state only if that violation is negligible, and raises otherwise.
@@ -234,7 +246,7 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
 
 def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None, p_init=None,
                   rtol: float = 1e-10, accept: float | None = None, max_outer: int = 200,
-                  max_krylov: int = 2000) -> ContactSolution:
+                  max_krylov: int = 2000, search_rtol: float | None = None) -> ContactSolution:
     """Solve the contact on ``grid`` for friction ``mu`` (sliding toward +x) and the given
     indenters (``physics.indenters``: each gives its height, a first pressure guess and its
     load), on ``film`` (default: the incompressible film of thickness 1, the core's unit).
@@ -268,7 +280,7 @@ def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None,
         return solve_complementarity(op, ind.height(grid), np.zeros(grid.shape, dtype=np.intp),
                                      [ind.load], p_init=guess if p_init is None else p_init,
                                      rtol=rtol, accept=accept, max_outer=max_outer,
-                                     max_krylov=max_krylov, grid=grid)
+                                     max_krylov=max_krylov, grid=grid, search_rtol=search_rtol)
     dist = np.stack([np.broadcast_to(ind.distance(grid), grid.shape) for ind in indenters])
     owner = np.argmin(dist, axis=0)  # nearest apex (periodically); ties to the first
     f = np.zeros(grid.shape)
@@ -281,4 +293,4 @@ def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None,
     return solve_complementarity(op, f, owner, [ind.load for ind in indenters],
                                  p_init=guess if p_init is None else p_init, rtol=rtol,
                                  accept=accept, max_outer=max_outer, max_krylov=max_krylov,
-                                 grid=grid)
+                                 grid=grid, search_rtol=search_rtol)
