@@ -29,6 +29,7 @@ import numpy as np
 
 from ..errors import ConvergenceError
 from ..physics.film import Film
+from .fft import get_rfft
 from .grid import Grid
 from .krylov import gmres
 from .operators import FourierOperator
@@ -116,11 +117,9 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
     loaded = loads > 0
     can_touch = loaded[owner] & np.isfinite(f)  # +inf: no body there (e.g. beyond sharp ends)
     M = loads.size
-    counter = {"fft": 0}
-
-    def Hp(p):
-        counter["fft"] += 1
-        return op.apply(p.reshape(shape)).ravel()
+    nfft = [0]  # FFT pairs
+    fft = get_rfft(shape)  # this thread's plan, bound once (op.apply looks it up per call)
+    S = op.symbol
 
     active = (np.asarray(p_init).ravel() > 0) & can_touch
     for m in np.flatnonzero(loaded):  # every loaded body needs a foothold
@@ -137,6 +136,9 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         idx = np.flatnonzero(active)
         own = owner[idx]
         ni = idx.size
+        # one contiguous run (the common 1D case): a slice gathers and scatters the same
+        # elements as the index array, without fancy indexing
+        sel = slice(int(idx[0]), int(idx[-1]) + 1) if ni and idx[-1] - idx[0] + 1 == ni else idx
         extents = (np.array([max(ni, 1)]) if M == 1
                    else np.maximum(np.bincount(own, minlength=M), 1)) * cell
         if ndim > 1:
@@ -147,35 +149,33 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         wload = np.where(loaded, gap_norm / np.where(loaded, loads, 1.0), 1.0)
         # preconditioner: inverse symbol clipped below the lowest mode the largest contact holds
         Hinv = op.preconditioner(np.pi / extents[loaded].max())
-        buf = np.zeros(n)  # zero off idx for this whole outer iteration: only buf[idx] is written
-        buf_nd = buf.reshape(shape)
-        apply, apply_symbol = op.apply, op.apply_symbol
+        sparse = fft.apply_sparse  # the operators on fields that vanish off the active set
+        # the sinking H p of the last matvec: GMRES's last matvec is at the x it returns, so
+        # this is H p of the new pressure (the same transform of the same data: no extra pair)
+        last_w = [None]
         if M == 1:  # one body (the common case): no gather by owner, no bincount
             wcell = cell * float(wload[0])
 
             def matvec(v):
-                counter["fft"] += 1
-                buf[idx] = v[:ni]
-                w = apply(buf_nd).ravel()
+                nfft[0] += 1
+                w = last_w[0] = sparse(v[:ni], sel, S)
                 out = np.empty_like(v)
-                np.subtract(w[idx], v[ni], out=out[:ni])
+                np.subtract(w[sel], v[ni], out=out[:ni])
                 out[ni] = wcell * v[:ni].sum()
                 return out
         else:
             def matvec(v):
-                counter["fft"] += 1
-                buf[idx] = v[:ni]
-                w = apply(buf_nd).ravel()
+                nfft[0] += 1
+                w = last_w[0] = sparse(v[:ni], sel, S)
                 out = np.empty_like(v)
-                out[:ni] = w[idx] - v[ni:][own]
+                out[:ni] = w[sel] - v[ni:][own]
                 out[ni:] = cell * np.bincount(own, weights=v[:ni], minlength=M) * wload
                 return out
 
         def psolve(r):
-            counter["fft"] += 1
-            buf[idx] = r[:ni]
+            nfft[0] += 1
             z = np.empty_like(r)
-            z[:ni] = apply_symbol(buf_nd, Hinv).ravel()[idx]
+            sparse(r[:ni], sel, Hinv, out=z[:ni])
             z[ni:] = r[ni:]
             return z
 
@@ -184,10 +184,10 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         v, its, rel_res = gmres(matvec, psolve, b, v0, rtol=rt, maxiter=max_krylov)
         krylov_total += its
         p = np.zeros(n)
-        p[idx] = v[:ni]
+        p[sel] = v[:ni]
         d = v[ni:].copy()
         d[~loaded] = 0.0
-        w = Hp(p)
+        w = last_w[0]
         gap = f - d[owner] + w
         # keep nodes with p >= 0: a node just added by a tiny penetration may keep p = 0
         # exactly when the warm-started GMRES has nothing to do (drop only tensile nodes)
@@ -241,7 +241,7 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
             residuals=[h[1] for h in history], iterations=outer)
     return ContactSolution(grid or op.grid, p.reshape(shape), w.reshape(shape), gap.reshape(shape),
                            active.reshape(shape), owner.reshape(shape), d, outer, krylov_total,
-                           counter["fft"], residual, residuals, history)
+                           nfft[0], residual, residuals, history)
 
 
 def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None, p_init=None,

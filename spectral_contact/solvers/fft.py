@@ -236,13 +236,13 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         # the same inner tolerances on every path (a proportional law stays Amontons bit for bit)
         rt, acc = ((max(rtol, _LOCATOR_RTOL), max(accept, _LOCATOR_ACCEPT)) if locator and adaptive
                    else (rtol, accept))
+        search = _LOCATOR_SEARCH_RTOL if locator and adaptive else None
         if not with_law and c == 0.0:
             return solve_contact(grid, mu_contact, indenter, film=film, p_init=p_init, rtol=rt,
-                                 accept=acc,
-                                 search_rtol=_LOCATOR_SEARCH_RTOL if locator and adaptive else None)
+                                 accept=acc, search_rtol=search)
         s_, _, li = solve_contact_law(grid, law if with_law else ShearLaw("amontons", mu=mu_contact),
                                       indenter, film=film, interface=c, p_init=p_init,
-                                      accept=acc, rtol=rt, law_tol=accept)
+                                      accept=acc, rtol=rt, law_tol=accept, search_rtol=search)
         law_iterations[0] += li["law_iterations"]
         return s_
 
