@@ -39,6 +39,7 @@ __all__ = ["ContactSolution", "solve_contact", "solve_complementarity", "complia
            "refine_nested"]
 
 
+_FILM = Film()  # the default film (frozen: shared)
 _NESTED_MIN = {1: 2**13, 2: 64}  # grids of at least twice this per axis start from the
 # half-resolution solution (1D: only large grids, so the automatic solver's locators and levels,
 # which are small or warm-started, keep their numbers)
@@ -148,17 +149,21 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         # one contiguous run (the common 1D case): a slice gathers and scatters the same
         # elements as the index array, without fancy indexing
         sel = slice(int(idx[0]), int(idx[-1]) + 1) if ni and idx[-1] - idx[0] + 1 == ni else idx
-        extents = (np.array([max(ni, 1)]) if M == 1
-                   else np.maximum(np.bincount(own, minlength=M), 1)) * cell
-        if ndim > 1:
-            extents = extents ** (1.0 / ndim)
         # weight of each load row: its right-hand side as large as the whole gap block's, so
         # GMRES's 2-norm stopping test controls the load as tightly as the gap
         fi = f[sel]
         gap_norm = max(math.sqrt(float(fi @ fi)), 1e-300)  # np.linalg.norm's operations
-        wload = np.where(loaded, gap_norm / np.where(loaded, loads, 1.0), 1.0)
         # preconditioner: inverse symbol clipped below the lowest mode the largest contact holds
-        Hinv = op.preconditioner(np.pi / extents[loaded].max())
+        if M == 1 and ndim == 1:  # the same floating-point operations on Python floats
+            wload = np.array([gap_norm / loads[0] if loaded[0] else 1.0])
+            Hinv = op.preconditioner(math.pi / (max(ni, 1) * cell))
+        else:
+            extents = (np.array([max(ni, 1)]) if M == 1
+                       else np.maximum(np.bincount(own, minlength=M), 1)) * cell
+            if ndim > 1:
+                extents = extents ** (1.0 / ndim)
+            wload = np.where(loaded, gap_norm / np.where(loaded, loads, 1.0), 1.0)
+            Hinv = op.preconditioner(np.pi / extents[loaded].max())
         sparse = fft.apply_sparse  # the operators on fields that vanish off the active set
         # the sinking H p of the last matvec: GMRES's last matvec is at the x it returns, so
         # this is H p of the new pressure (the same transform of the same data: no extra pair)
@@ -237,8 +242,8 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         seen.add(akey)
         for m in (() if M == 1 and new.any() else np.flatnonzero(loaded)):
             if not np.any(new & (owner == m)):
-                sel = np.flatnonzero(owner == m)
-                new[sel[np.argmin(gap[sel])]] = True
+                mine = np.flatnonzero(owner == m)
+                new[mine[np.argmin(gap[mine])]] = True
         active = new
     else:
         raise ConvergenceError(
@@ -246,7 +251,10 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
             f"(last inner residual {history[-1][1]:.2e})",
             residuals=[h[1] for h in history], iterations=max_outer)
 
-    scale_w = max(np.max(np.abs(w)), np.max(np.abs(f[active])) if active.any() else 0.0, 1e-300)
+    # (sel holds the final active set's nodes: max |.| as max(max, -min), exactly)
+    fa, ga = f[sel], gap[sel]
+    scale_w = max(float(max(w.max(), -w.min())), float(max(fa.max(), -fa.min())) if ni else 0.0,
+                  1e-300)
     pmax = max(p.max(), 1e-300)
     load_res = 0.0
     if M == 1:
@@ -256,7 +264,7 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         for m in np.flatnonzero(loaded):
             load_res = max(load_res, abs(cell * p[owner == m].sum() - loads[m]) / loads[m])
     residuals = {
-        "gap": float(np.max(np.abs(gap[active])) / scale_w) if active.any() else 0.0,
+        "gap": float(max(ga.max(), -ga.min()) / scale_w) if ni else 0.0,
         "penetration": float(max(0.0, -gap[~active & can_touch].min(initial=0.0)) / scale_w),
         "tension": float(max(0.0, -p.min()) / pmax),
         "load": float(load_res),
@@ -285,7 +293,7 @@ def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None,
              by default each loaded indenter's own guess (the half-space solution).
     Other options as ``solve_complementarity``.
     """
-    film = film or Film()
+    film = film or _FILM
     if p_init is None and min(grid.shape) >= 2 * _NESTED_MIN.get(grid.ndim, 64) \
             and all(n % 2 == 0 for n in grid.shape):
         # nested start: the half-resolution solution, interpolated, instead of the
