@@ -30,6 +30,7 @@ import numpy as np
 
 from ..errors import ConvergenceError
 from ..physics.film import Film
+from .edges import fit_edges
 from .fft import get_rfft
 from .grid import Grid
 from .krylov import gmres
@@ -40,9 +41,15 @@ __all__ = ["ContactSolution", "solve_contact", "solve_complementarity", "complia
 
 
 _FILM = Film()  # the default film (frozen: shared)
+_SEARCH_STEPS = 8  # active-set steps at most at the loose search_rtol (mu = 30: it wandered)
 _NESTED_MIN = {1: 2**13, 2: 64}  # grids of at least twice this per axis start from the
 # half-resolution solution (1D: only large grids, so the automatic solver's locators and levels,
 # which are small or warm-started, keep their numbers)
+_NESTED_FLOOR = {1: 2**10, 2: 64}  # and the chain of halvings goes down to this (a cold solve
+# costs ~10 active-set steps at any N: measured 10 steps, 80 GMRES at 2^13, at a 64th the price
+# at 2^10, with the three extra nested levels one step each)
+_EDGE_REACH = 0.25  # nested first set: the fine nodes within this many cells beyond the coarse
+# solution's fitted edges (a solve's contact holds nodes up to ~0.15-0.3 cells beyond them)
 
 
 def refine_nested(p: np.ndarray) -> np.ndarray:
@@ -226,8 +233,9 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         key = new.tobytes()
         akey = active.tobytes()
         settled = key == akey
-        if rt > rtol and (settled or key in seen):
-            # the search has settled (or cycles) at the loose tolerance: from here on, rtol
+        if rt > rtol and (settled or key in seen or outer >= _SEARCH_STEPS):
+            # the search has settled (or cycles, or wanders: strong friction) at the loose
+            # tolerance: from here on, rtol
             rt = rtol
             seen.clear()
             if settled:
@@ -290,24 +298,16 @@ def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None,
     load), on ``film`` (default: the incompressible film of thickness 1, the core's unit).
 
     p_init : optional initial pressure on the grid (its support is the first active set);
-             by default each loaded indenter's own guess (the half-space solution).
+             by default each loaded indenter's own guess (the half-space solution), or on
+             large grids the nested start (``_nested_start``).
     Other options as ``solve_complementarity``.
     """
     film = film or _FILM
     if p_init is None and min(grid.shape) >= 2 * _NESTED_MIN.get(grid.ndim, 64) \
             and all(n % 2 == 0 for n in grid.shape):
-        # nested start: the half-resolution solution, interpolated, instead of the
-        # half-space guess (whose extra nodes cost one active-set step per band of cells: the
-        # count then grows with N); its work is added to this solve's counters
-        coarse = solve_contact(Grid(tuple(n // 2 for n in grid.shape), grid.lengths, grid.origin),
-                               mu, indenters, film=film, rtol=rtol, accept=accept,
-                               max_outer=max_outer, max_krylov=max_krylov)
-        sol = solve_contact(grid, mu, indenters, film=film, p_init=refine_nested(coarse.pressure),
-                            rtol=rtol, accept=accept, max_outer=max_outer, max_krylov=max_krylov)
-        sol.fft_pairs += coarse.fft_pairs
-        sol.coarse_iterations = coarse.iterations + coarse.coarse_iterations
-        sol.coarse_krylov_iterations = coarse.krylov_iterations + coarse.coarse_krylov_iterations
-        return sol
+        return _nested_start(grid, mu, indenters, film, _NESTED_FLOOR.get(grid.ndim, 64),
+                             dict(rtol=rtol, accept=accept, max_outer=max_outer,
+                                  max_krylov=max_krylov))
     op = compliance_operator(grid.shape, grid.lengths, float(mu), film)
     if len(indenters) == 1:  # one body owns every node (no distances to compare)
         ind = indenters[0]
@@ -332,3 +332,36 @@ def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None,
                                  p_init=guess if p_init is None else p_init, rtol=rtol,
                                  accept=accept, max_outer=max_outer, max_krylov=max_krylov,
                                  grid=grid, search_rtol=search_rtol)
+
+
+def _nested_start(grid: Grid, mu: float, indenters, film: Film, floor: int, options: dict
+                  ) -> ContactSolution:
+    """A cold solve on a large grid: the half-resolution solution (itself nested, down to
+    ``floor`` points per axis), interpolated, instead of the half-space guess, whose extra
+    nodes cost one active-set step per band of cells (the count then grows with N).  In 1D the
+    first active set is the coarse solution's contact up to its fitted edges (+ _EDGE_REACH
+    fine cells): one active-set step per level.  The coarse levels'
+    work is added to this solve's counters."""
+    half = tuple(n // 2 for n in grid.shape)
+    coarse_grid = Grid(half, grid.lengths, grid.origin)
+    if min(half) >= 2 * floor and all(n % 2 == 0 for n in half):
+        coarse = _nested_start(coarse_grid, mu, indenters, film, floor, options)
+    else:
+        coarse = solve_contact(coarse_grid, mu, indenters, film=film, **options)
+    p0 = refine_nested(coarse.pressure)
+    if grid.ndim == 1 and coarse.active.any():
+        cg = coarse.grid
+        edges = fit_edges(cg.x, cg.dx, coarse.gap, coarse.pressure, coarse.active)
+        x, L, dx = grid.x, grid.length, grid.dx
+        inside = np.zeros(grid.n, dtype=bool)
+        for left, right in edges:
+            lo = left - _EDGE_REACH * dx
+            inside |= np.mod(x - lo, L) < (right - left) + 2 * _EDGE_REACH * dx
+        p0 = np.where(inside, np.maximum(p0, 1e-12), 0.0)
+    # (not the coarse indentation: GMRES from it meets rtol sooner, with 10-100x the nodal
+    # error at the edge nodes; measured against rtol 1e-14 solves at 2^16-2^20)
+    sol = solve_contact(grid, mu, indenters, film=film, p_init=p0, **options)
+    sol.fft_pairs += coarse.fft_pairs
+    sol.coarse_iterations = coarse.iterations + coarse.coarse_iterations
+    sol.coarse_krylov_iterations = coarse.krylov_iterations + coarse.coarse_krylov_iterations
+    return sol

@@ -125,7 +125,7 @@ def fit_edges(x, dx, gap, pressure, active):
                 free = i
             p_in = (float(pressure[node]), float(pressure[(node - side) % n]))
             t = _edge(x[node], dx, g, p_in, free)
-            edges.append(float(x[node]) + side * t * dx)
+            edges.append(x[node] + side * t * dx)
         right, left = edges
         if right < left:  # a run that wraps the period
             right += n * dx
