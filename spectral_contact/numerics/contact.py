@@ -66,7 +66,13 @@ def refine_nested(p: np.ndarray) -> np.ndarray:
         even[axis] = slice(0, None, 2)
         odd[axis] = slice(1, None, 2)
         fine[tuple(even)] = out
-        fine[tuple(odd)] = 0.5 * (out + np.roll(out, -1, axis=axis))
+        if p.ndim == 1:  # np.roll's values, without its overhead
+            nxt = np.empty_like(out)
+            nxt[:-1] = out[1:]
+            nxt[-1:] = out[:1]
+        else:
+            nxt = np.roll(out, -1, axis=axis)
+        fine[tuple(odd)] = 0.5 * (out + nxt)
         out = fine
     return np.maximum(out, 0.0)
 
@@ -219,6 +225,12 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         b = np.concatenate([-fi, np.where(loaded, loads, 0.0) * wload])
         v0 = np.concatenate([p[idx], d])
         v, its, rel_res = gmres(matvec, psolve, b, v0, rtol=rt, maxiter=max_krylov, step=step)
+        if its == 0 and rt > rtol:
+            # the start already meets the loose tolerance (a search that has settled): rtol
+            # now, on this set, without an active-set step that would only find it unchanged
+            rt = rtol
+            seen.clear()
+            v, its, rel_res = gmres(matvec, psolve, b, v, rtol=rt, maxiter=max_krylov, step=step)
         krylov_total += its
         p = np.zeros(n)
         p[sel] = v[:ni]

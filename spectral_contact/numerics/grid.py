@@ -28,8 +28,10 @@ def pow2_at_least(n: float, minimum: int = 1) -> int:
 
 
 def _tuple(v, kind) -> tuple:
-    if isinstance(v, (int, float)):  # fast path (the common scalar): np.ndim costs microseconds
+    if isinstance(v, (int, float)):  # fast paths (the common cases): np.ndim costs microseconds
         return (kind(v),)
+    if type(v) is tuple and all(type(x) is kind for x in v):
+        return v
     return tuple(kind(x) for x in v) if np.ndim(v) else (kind(v),)
 
 

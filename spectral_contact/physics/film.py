@@ -235,13 +235,18 @@ class Film:
         tau_hat = tuple(fft.forward(t) for t in tau_surface)
         # the coefficients depend only on the film and the grid's wavenumbers: kept for the
         # next call on the same grid (a repeated solve's final grid)
+        # (with the first grid of that shape and period: its wavevector directions, which do
+        # not depend on the origin, are cached on it)
+        # (small grids only: on large ones the solve dwarfs them, and they are large)
         key = (self, grid.shape, grid.lengths)
-        coefficients = _BASE_COEFFICIENTS.get(key)
-        if coefficients is None:
-            coefficients = self.base_coefficients(grid.kmag)
-            if len(_BASE_COEFFICIENTS) >= 16:
+        entry = _BASE_COEFFICIENTS.get(key)
+        if entry is None:
+            entry = (self.base_coefficients(grid.kmag), grid)
+            if len(_BASE_COEFFICIENTS) >= 8:
                 _BASE_COEFFICIENTS.clear()
-            _BASE_COEFFICIENTS[key] = coefficients
+            if grid.size <= 2**16:
+                _BASE_COEFFICIENTS[key] = entry
+        coefficients, grid = entry
         szz0, tau0 = grid.alias_average(
             lambda n: self.base_transfer(n, grid.kmag, szz_hat, tau_hat, coefficients))
         return fft.backward(szz0), tuple(fft.backward(t) for t in tau0)
@@ -250,7 +255,7 @@ class Film:
 # --- 1D forms (plane strain, k >= 0 of the real FFT), kept for their callers ------------------
 _FILM = Film()
 _E_X = (1.0,)
-_BASE_COEFFICIENTS: dict = {}  # (film, shape, lengths) -> base_coefficients on that grid
+_BASE_COEFFICIENTS: dict = {}  # (film, shape, lengths) -> (base_coefficients, a grid of them)
 
 
 def surface_compliance(k: np.ndarray, mu: float) -> np.ndarray:
