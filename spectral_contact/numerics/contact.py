@@ -136,6 +136,8 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
     # +inf: no body there (e.g. beyond sharp ends)
     can_touch = ((np.isfinite(f) if loaded[0] else np.zeros(n, dtype=bool)) if M == 1
                  else loaded[owner] & np.isfinite(f))
+    touch_all = bool(can_touch.all())
+    add_reduce = np.add.reduce
     nfft = [0]  # FFT pairs
     fft = get_rfft(shape)  # this thread's plan, bound once (op.apply looks it up per call)
     S = op.symbol
@@ -161,7 +163,8 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         ni = idx.size
         # one contiguous run (the common 1D case): a slice gathers and scatters the same
         # elements as the index array, without fancy indexing
-        sel = slice(int(idx[0]), int(idx[-1]) + 1) if ni and idx[-1] - idx[0] + 1 == ni else idx
+        contiguous = bool(ni) and idx[-1] - idx[0] + 1 == ni
+        sel = slice(int(idx[0]), int(idx[-1]) + 1) if contiguous else idx
         # weight of each load row: its right-hand side as large as the whole gap block's, so
         # GMRES's 2-norm stopping test controls the load as tightly as the gap
         fi = f[sel]
@@ -189,7 +192,7 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
                 w = last_w[0] = sparse(v[:ni], sel, S)
                 out = np.empty_like(v)
                 np.subtract(w[sel], v[ni], out=out[:ni])
-                out[ni] = wcell * v[:ni].sum()
+                out[ni] = wcell * add_reduce(v[:ni])
                 return out
         else:
             def matvec(v):
@@ -211,15 +214,17 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         if M == 1:
             wstep = np.empty(ni + 1)  # GMRES's w, reused (it is copied into the basis)
             wp = wstep[:ni]
+            masked = fft.sparse_applier(sel)
+            subtract = np.subtract
 
             def step(v, z):  # psolve then matvec, the same operations in one call
                 nfft[0] += 2
                 zp = z[:ni]
-                sparse(v[:ni], sel, Hinv, out=zp)
+                masked(v[:ni], Hinv, zp)
                 z[ni] = v[ni]
-                sparse(zp, sel, S, out=wp)
-                np.subtract(wp, z[ni], out=wp)
-                wstep[ni] = wcell * zp.sum()
+                masked(zp, S, wp)
+                subtract(wp, z[ni], out=wp)
+                wstep[ni] = wcell * add_reduce(zp)  # (= zp.sum())
                 return wstep
 
         b = np.concatenate([-fi, np.where(loaded, loads, 0.0) * wload])
@@ -240,7 +245,13 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         gap = f - d[0] + w if M == 1 else f - d[owner] + w
         # keep nodes with p >= 0: a node just added by a tiny penetration may keep p = 0
         # exactly when the warm-started GMRES has nothing to do (drop only tensile nodes)
-        new = ((active & (p >= 0)) | (~active & (gap < 0))) & can_touch
+        if contiguous:  # the same sets from slices: inactive nodes off sel, active on it
+            new = gap < 0
+            new[sel] = p[sel] >= 0
+            if not touch_all:
+                new &= can_touch
+        else:
+            new = ((active & (p >= 0)) | (~active & (gap < 0))) & can_touch
         history.append((ni, float(rel_res), its))
         key = new.tobytes()
         akey = active.tobytes()
@@ -285,7 +296,10 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
             load_res = max(load_res, abs(cell * p[owner == m].sum() - loads[m]) / loads[m])
     residuals = {
         "gap": float(max(ga.max(), -ga.min()) / scale_w) if ni else 0.0,
-        "penetration": float(max(0.0, -gap[~active & can_touch].min(initial=0.0)) / scale_w),
+        "penetration": float(max(0.0, -(min(gap[:sel.start].min(initial=0.0),
+                                             gap[sel.stop:].min(initial=0.0))
+                                         if contiguous and touch_all else
+                                         gap[~active & can_touch].min(initial=0.0))) / scale_w),
         "tension": float(max(0.0, -p.min()) / pmax),
         "load": float(load_res),
         "linear": float(history[-1][1]),

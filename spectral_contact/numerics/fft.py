@@ -122,6 +122,25 @@ class RealFFT:
         return np.multiply(r[sel], self._scale, out=out)
 
 
+    def sparse_applier(self, sel):
+        """``apply_sparse`` at fixed positions ``sel``, as a function (values, symbol, out) ->
+        out with its buffers and plans bound (the same operations: for loops of small
+        transforms, where Python's attribute look-ups cost as much as the transform)."""
+        r, c, scale = self._flat, self._c, self._scale
+        fwd, bwd = self._fwd.execute, self._bwd.execute
+        fill, multiply = r.fill, np.multiply
+
+        def apply(values, symbol, out):
+            fill(0.0)
+            r[sel] = values
+            fwd()
+            multiply(c, symbol, out=c)
+            bwd()
+            return multiply(r[sel], scale, out=out)
+
+        return apply
+
+
 def _cache() -> dict:
     c = getattr(_local, "plans", None)
     if c is None:

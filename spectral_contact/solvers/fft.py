@@ -158,7 +158,11 @@ def _first_set(g, edges, p, reach=_EDGE_REACH):
     number of active-set steps depends on it, not the solution."""
     lo = min(e[0] for e in edges) - reach * g.dx
     hi = max(e[1] for e in edges) + reach * g.dx
-    return np.where((g.x > lo) & (g.x < hi), np.maximum(p, 1e-12), 0.0)
+    x = g.x  # increasing: the nodes lo < x < hi are one slice
+    i0, i1 = int(np.searchsorted(x, lo, "right")), int(np.searchsorted(x, hi, "left"))
+    out = np.zeros(x.size)
+    out[i0:i1] = np.maximum(p[i0:i1], 1e-12)
+    return out
 
 
 _DOMAIN_ATTEMPTS = 3
@@ -341,7 +345,10 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
             try:
                 cur = contact(g, p_init=p_init)
                 gs = Grid.centered(n, L, center + 0.5 * g.dx)
-                ps = 0.5 * (cur.pressure + np.roll(cur.pressure, -1))
+                ps = cur.pressure.copy()  # 0.5 (p + np.roll(p, -1)), without np.roll's overhead
+                ps[:-1] += cur.pressure[1:]
+                ps[-1] += cur.pressure[0]
+                ps *= 0.5
                 q0 = _measure(cur)
                 if adaptive and not exponential and q0["edges"]:
                     # the first active set from cur's fitted edges (the midpoint beyond an
