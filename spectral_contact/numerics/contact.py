@@ -158,7 +158,7 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
     krylov_total = 0
     rt = max(rtol, search_rtol or rtol)  # the inner tolerance of this outer iteration
     for outer in range(1, max_outer + 1):  # noqa: B007 (the count is reported after the loop)
-        idx = np.flatnonzero(active)
+        idx = active.nonzero()[0]  # (np.flatnonzero of the flat array, without its wrapper)
         own = owner[idx] if M > 1 else None
         ni = idx.size
         # one contiguous run (the common 1D case): a slice gathers and scatters the same
@@ -227,8 +227,16 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
                 wstep[ni] = wcell * add_reduce(zp)  # (= zp.sum())
                 return wstep
 
-        b = np.concatenate([-fi, np.where(loaded, loads, 0.0) * wload])
-        v0 = np.concatenate([p[idx], d])
+        if M == 1:  # the same values as the general concatenations below
+            b = np.empty(ni + 1)
+            np.negative(fi, out=b[:ni])
+            b[ni] = loads[0] * wload[0] if loaded[0] else 0.0
+            v0 = np.empty(ni + 1)
+            v0[:ni] = p[sel]
+            v0[ni] = d[0]
+        else:
+            b = np.concatenate([-fi, np.where(loaded, loads, 0.0) * wload])
+            v0 = np.concatenate([p[idx], d])
         v, its, rel_res = gmres(matvec, psolve, b, v0, rtol=rt, maxiter=max_krylov, step=step)
         if its == 0 and rt > rtol:
             # the start already meets the loose tolerance (a search that has settled): rtol

@@ -154,15 +154,21 @@ _EDGE_REACH = 0.25  # (measured) a collocation solve's contact holds the nodes u
 def _first_set(g, edges, p, reach=_EDGE_REACH):
     """A first pressure on grid ``g`` whose support is the contact set a solve on ``g`` is
     expected to end with: the nodes within _EDGE_REACH cells beyond the envelope of ``edges``
-    (fitted on a previous solution); ``p`` (interpolated) inside, floored at 1e-12.  Only the
+    (fitted on a previous solution); ``p`` (interpolated; or a function of the nodes' x, then
+    evaluated there only) inside, floored at 1e-12.  Only the
     number of active-set steps depends on it, not the solution."""
+    sl = _set_slice(g, edges, reach)
+    out = np.zeros(g.n)
+    out[sl] = np.maximum(p[sl] if isinstance(p, np.ndarray) else p(g.x[sl]), 1e-12)
+    return out
+
+
+def _set_slice(g, edges, reach=_EDGE_REACH):
+    """The nodes lo < x < hi of ``_first_set`` (one slice: the nodes increase)."""
     lo = min(e[0] for e in edges) - reach * g.dx
     hi = max(e[1] for e in edges) + reach * g.dx
-    x = g.x  # increasing: the nodes lo < x < hi are one slice
-    i0, i1 = int(np.searchsorted(x, lo, "right")), int(np.searchsorted(x, hi, "left"))
-    out = np.zeros(x.size)
-    out[i0:i1] = np.maximum(p[i0:i1], 1e-12)
-    return out
+    x = g.x
+    return slice(int(x.searchsorted(lo, "right")), int(x.searchsorted(hi, "left")))
 
 
 _DOMAIN_ATTEMPTS = 3
@@ -334,9 +340,10 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
             g = Grid.centered(n, L, center)
             # start from the locator's pressure (first level) or the previous level's
             if prev is None:
-                p_init = np.interp(g.x, sol.grid.x, sol.pressure, period=sol.grid.length)
-                if adaptive and not exponential and q["edges"]:
-                    p_init = _first_set(g, q["edges"], p_init)
+                def located(x, s0=sol):  # (np.interp is elementwise: only where it is kept)
+                    return np.interp(x, s0.grid.x, s0.pressure, period=s0.grid.length)
+                p_init = (_first_set(g, q["edges"], located) if adaptive and not exponential
+                          and q["edges"] else located(g.x))
             else:
                 refined = refine_nested(prev.pressure)
                 # exponential interface: no contact set, the whole refined pressure
