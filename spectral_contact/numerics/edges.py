@@ -23,11 +23,15 @@ def contact_runs(active: np.ndarray):
     """Maximal runs of True in a periodic boolean array, as (first, last) node indices
     (last may be < first when a run wraps around the period)."""
     n = active.size
-    if not active.any():
+    idx = np.flatnonzero(active)
+    if not idx.size:
         return []
-    if active.all():
+    if idx.size == n:
         raise InputError("the contact fills the whole periodic domain: enlarge domain_length, "
                          "or the scene is beyond the FFT method's range (contact wider than the period)")
+    first, last = int(idx[0]), int(idx[-1])
+    if last - first + 1 == idx.size:  # one run that does not wrap (the common case)
+        return [(first, last)]
     # run boundaries of the unrolled array; the run through node 0 (which may wrap around the
     # period) is listed last, as if the array were read from its first inactive node
     d = np.diff(active.astype(np.int8))
@@ -104,15 +108,22 @@ def fit_edges(x, dx, gap, pressure, active):
     for first, last in runs:
         edges = []
         for side, node in ((+1, last), (-1, first)):
-            # nodes outside, up to 6 of them, until the next contact
-            outside = [(node + side * i) % n for i in range(0, 7)]
+            # nodes outside, up to 6 of them, until the next contact (a slice when they do
+            # not wrap around the period: the same values)
+            if 7 <= node < n - 7:
+                sl = slice(node, node + 7) if side > 0 else slice(node, node - 7, -1)
+                act = active[sl].tolist()
+                g = gap[sl].tolist()
+            else:
+                outside = [(node + side * i) % n for i in range(0, 7)]
+                act = active[outside].tolist()
+                g = gap[outside].tolist()
             free = 0
             for i in range(1, 7):
-                if active[outside[i]]:
+                if act[i]:
                     break
                 free = i
-            g = gap[outside]
-            p_in = (pressure[node], pressure[(node - side) % n])
+            p_in = (float(pressure[node]), float(pressure[(node - side) % n]))
             t = _edge(x[node], dx, g, p_in, free)
             edges.append(x[node] + side * t * dx)
         right, left = edges

@@ -82,6 +82,7 @@ class RealFFT:
                                     threads=self.threads)
         self.plan_time_s = time.perf_counter() - t0
         self._scale = 1.0 / float(np.prod(shape))
+        self._flat = self._r.reshape(-1)  # a view (the aligned buffer is contiguous)
 
     def forward(self, a: np.ndarray) -> np.ndarray:
         """rfft of a real array; returns a new complex array."""
@@ -102,6 +103,42 @@ class RealFFT:
         self._c *= symbol
         self._bwd.execute()
         return self._r * self._scale
+
+
+    def apply_sparse(self, values: np.ndarray, sel, symbol: np.ndarray,
+                     out: np.ndarray | None = None) -> np.ndarray:
+        """``apply`` to the field that holds ``values`` at the flat positions ``sel`` (an index
+        array or a slice) and 0 elsewhere, without building that field: the same operations on
+        the same data, bit for bit.  Returns the result gathered at ``sel`` into ``out`` or,
+        without ``out``, the whole result (flat, a new array)."""
+        r = self._flat
+        r.fill(0.0)
+        r[sel] = values
+        self._fwd.execute()
+        self._c *= symbol
+        self._bwd.execute()
+        if out is None:
+            return r * self._scale
+        return np.multiply(r[sel], self._scale, out=out)
+
+
+    def sparse_applier(self, sel):
+        """``apply_sparse`` at fixed positions ``sel``, as a function (values, symbol, out) ->
+        out with its buffers and plans bound (the same operations: for loops of small
+        transforms, where Python's attribute look-ups cost as much as the transform)."""
+        r, c, scale = self._flat, self._c, self._scale
+        fwd, bwd = self._fwd.execute, self._bwd.execute
+        fill, multiply = r.fill, np.multiply
+
+        def apply(values, symbol, out):
+            fill(0.0)
+            r[sel] = values
+            fwd()
+            multiply(c, symbol, out=c)
+            bwd()
+            return multiply(r[sel], scale, out=out)
+
+        return apply
 
 
 def _cache() -> dict:

@@ -69,13 +69,15 @@ def _with_interface(shape: tuple, lengths: tuple, mu: float, film: Film, c: floa
 def solve_contact_law(grid: Grid, law: ShearLaw, indenters, *, film: Film | None = None,
                       interface: float = 0.0, p_init=None, accept: float | None = None,
                       rtol: float = 1e-10, law_tol: float = 1e-8, max_law_iterations: int = 100,
-                      depth: int = 5):
+                      depth: int = 5, search_rtol: float | None = None):
     """Contact on ``grid`` under the friction law ``law`` (dimensionless, sliding toward +x).
 
     interface : c >= 0, a linear interface compliance (dimensionless: displacement h^2/2R per
         stress unit): the interface closes by c p, so the gap is f - d + w + c p and the
         contact operator is H + c (``FourierOperator.__add__``).  c = 0 is the rigid interface
         (the plain solve, bit for bit).
+    search_rtol : as ``solve_complementarity``'s, for the first contact solve (a proportional
+        law: the only one).
 
     Returns (solution, q, info): the ``ContactSolution`` (its ``sinking`` is the film's, shear
     part included, without the interface's closure c p; ``solution.shear`` is q too), the
@@ -85,7 +87,7 @@ def solve_contact_law(grid: Grid, law: ShearLaw, indenters, *, film: Film | None
     c = float(interface)
     if law.proportional and c == 0.0:
         sol = solve_contact(grid, law.mu, indenters, film=film, p_init=p_init, accept=accept,
-                            rtol=rtol)
+                            rtol=rtol, search_rtol=search_rtol)
         sol.shear = law.mu * sol.pressure
         return sol, sol.shear, {"law_iterations": 0, "law_change": 0.0}
     f, owner, guess = _setup(grid, indenters)
@@ -94,7 +96,7 @@ def solve_contact_law(grid: Grid, law: ShearLaw, indenters, *, film: Film | None
     if law.proportional:
         op = _with_interface(grid.shape, grid.lengths, float(law.mu), film, c)
         sol = solve_complementarity(op, f, owner, loads, p_init=p, rtol=rtol, accept=accept,
-                                    grid=grid)
+                                    grid=grid, search_rtol=search_rtol)
         sol.sinking = sol.sinking - c * sol.pressure
         sol.shear = law.mu * sol.pressure
         return sol, sol.shear, {"law_iterations": 0, "law_change": 0.0}

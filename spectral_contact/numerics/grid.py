@@ -28,6 +28,10 @@ def pow2_at_least(n: float, minimum: int = 1) -> int:
 
 
 def _tuple(v, kind) -> tuple:
+    if isinstance(v, (int, float)):  # fast paths (the common cases): np.ndim costs microseconds
+        return (kind(v),)
+    if type(v) is tuple and all(type(x) is kind for x in v):
+        return v
     return tuple(kind(x) for x in v) if np.ndim(v) else (kind(v),)
 
 
@@ -86,7 +90,7 @@ class Grid:
     @property
     def cell(self) -> float:
         """Length (1D) or area (2D) of one cell: the weight of a node in an integral."""
-        return float(np.prod(self.spacing))
+        return float(math.prod(self.spacing))  # the same products as np.prod, in order
 
     @cached_property
     def axes(self) -> tuple:
@@ -103,8 +107,9 @@ class Grid:
         out = []
         for i, (x, L, p) in enumerate(zip(self.axes, self.lengths, point)):
             rel = x - p
-            rel = rel - L * np.round(rel / L)
-            out.append(rel.reshape([-1 if j == i else 1 for j in range(self.ndim)]))
+            rel = rel - L * np.rint(rel / L)  # np.round(., 0), without its Python wrapper
+            out.append(rel if self.ndim == 1 else
+                       rel.reshape([-1 if j == i else 1 for j in range(self.ndim)]))
         return tuple(out)
 
     # first axis (x, the sliding direction): the 1D names

@@ -40,12 +40,15 @@ def _bases(m: int, n: int):
     return buf[: (m + 1) * n].reshape(m + 1, n), buf[(m + 1) * n: need].reshape(m, n)
 
 
-def gmres(matvec, psolve, b, x0, rtol=1e-10, restart=60, maxiter=600):
+def gmres(matvec, psolve, b, x0, rtol=1e-10, restart=60, maxiter=600, step=None):
     """Solve A x = b, A given by ``matvec``, right preconditioner ``psolve`` ~ A^-1.
 
     Returns (x, iterations, relative residual).  Stops when ||b - A x|| <= rtol ||b|| or after
     ``maxiter`` matrix-vector products.  ``matvec`` and ``psolve`` must not keep the vectors
-    they are given (they are rows of a reused buffer).
+    they are given (they are rows of a reused buffer).  ``step(v, z)``, optional, does one
+    iteration's two products at once: z[:] = M^-1 v, returns A z (an array GMRES may overwrite
+    and that ``step`` may reuse at its next call); the last call of ``matvec`` is always at
+    the x returned.
     """
     n = b.size
     x = x0.copy()
@@ -66,8 +69,11 @@ def gmres(matvec, psolve, b, x0, rtol=1e-10, restart=60, maxiter=600):
             g = [beta]
             np.divide(r, beta, out=V[0])
             for j in range(m):
-                Z[j] = psolve(V[j])
-                w = matvec(Z[j])
+                if step is None:
+                    Z[j] = psolve(V[j])
+                    w = matvec(Z[j])
+                else:
+                    w = step(V[j], Z[j])
                 its += 1
                 # classical Gram-Schmidt, twice (as stable as modified, but vectorised)
                 Vj = V[: j + 1]

@@ -158,12 +158,8 @@ class Film:
             return self.surface_compliance(direction, kmag, mu, slide)
         return symbol
 
-    def base_transfer(self, direction, kmag, szz_hat, tau_hat):
-        """Base-traction spectra from surface-traction spectra.
-
-        szz_hat : spectrum of sigma_zz(x, h) (= -p^);  tau_hat : tuple of spectra of the surface
-        shear components (sigma_xz, [sigma_yz]) at z = h, one per surface dimension (0 allowed).
-        Returns (sigma_zz^(x, 0), tuple of the base shear spectra)."""
+    def base_coefficients(self, kmag):
+        """(A, iB, iB', C, sech K) at |k| = kmag: what ``base_transfer`` multiplies by."""
         K = np.asarray(kmag, dtype=float) * self.thickness
         if self.incompressible:
             _, _, A, B, C = transfer_functions(K)
@@ -171,10 +167,19 @@ class Film:
         else:  # the two couplings differ when nu < 1/2
             _, _, A, B, Bp, C = compressible_transfer_functions(K, self.poisson)
             iB, iBp = 1j * B, 1j * Bp
+        return A, iB, iBp, C, _sech(K)
+
+    def base_transfer(self, direction, kmag, szz_hat, tau_hat, coefficients=None):
+        """Base-traction spectra from surface-traction spectra.
+
+        szz_hat : spectrum of sigma_zz(x, h) (= -p^);  tau_hat : tuple of spectra of the surface
+        shear components (sigma_xz, [sigma_yz]) at z = h, one per surface dimension (0 allowed).
+        coefficients : ``base_coefficients(kmag)`` if already computed.
+        Returns (sigma_zz^(x, 0), tuple of the base shear spectra)."""
+        A, iB, iBp, C, T = coefficients or self.base_coefficients(kmag)
         tau_L = sum(n * t for n, t in zip(direction, tau_hat))
         szz0 = A * szz_hat + iB * tau_L
         tau_L0 = C * tau_L + iBp * szz_hat
-        T = _sech(K)
         return szz0, tuple(n * tau_L0 + T * (t - n * tau_L) for n, t in zip(direction, tau_hat))
 
     def surface_displacement_transfer(self, direction, kmag, p_hat, tau_hat):
@@ -228,14 +233,29 @@ class Film:
         Returns (sigma_zz(x, 0), tuple of base shear fields)."""
         szz_hat = fft.forward(szz_surface)
         tau_hat = tuple(fft.forward(t) for t in tau_surface)
+        # the coefficients depend only on the film and the grid's wavenumbers: kept for the
+        # next call on the same grid (a repeated solve's final grid)
+        # (with the first grid of that shape and period: its wavevector directions, which do
+        # not depend on the origin, are cached on it)
+        # (small grids only: on large ones the solve dwarfs them, and they are large)
+        key = (self, grid.shape, grid.lengths)
+        entry = _BASE_COEFFICIENTS.get(key)
+        if entry is None:
+            entry = (self.base_coefficients(grid.kmag), grid)
+            if len(_BASE_COEFFICIENTS) >= 8:
+                _BASE_COEFFICIENTS.clear()
+            if grid.size <= 2**16:
+                _BASE_COEFFICIENTS[key] = entry
+        coefficients, grid = entry
         szz0, tau0 = grid.alias_average(
-            lambda n: self.base_transfer(n, grid.kmag, szz_hat, tau_hat))
+            lambda n: self.base_transfer(n, grid.kmag, szz_hat, tau_hat, coefficients))
         return fft.backward(szz0), tuple(fft.backward(t) for t in tau0)
 
 
 # --- 1D forms (plane strain, k >= 0 of the real FFT), kept for their callers ------------------
 _FILM = Film()
 _E_X = (1.0,)
+_BASE_COEFFICIENTS: dict = {}  # (film, shape, lengths) -> (base_coefficients, a grid of them)
 
 
 def surface_compliance(k: np.ndarray, mu: float) -> np.ndarray:
