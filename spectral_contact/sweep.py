@@ -9,9 +9,12 @@ Values (SI, the units of ``solve``): a number, a list, a comma list "0.3,1,2,3" 
 
 Engines: ``engine="serial"`` solves in this process; ``engine="local"`` (default) starts a dask
 LocalCluster of ``workers`` processes (default: the machine's cores), one thread each, with
-OpenBLAS/OpenMP/MKL pinned to one thread through the workers' environment; ``scheduler=
-"tcp://HOST:PORT"`` uses a running dask cluster (its workers should be started with
-``--nthreads 1`` and ``OPENBLAS_NUM_THREADS=1``).  Tasks carry plain dicts of parameters; each
+OpenBLAS/OpenMP/MKL pinned to one thread through the workers' environment, and dask settings
+``DASK_CONFIG`` that spare the cores (no statistical profiler in the workers, slower event-loop
+tick and system/memory monitors, glibc's own malloc thresholds instead of the nannies'
+MALLOC_TRIM_THRESHOLD_=65536; set only around the cluster's creation); ``scheduler=
+"tcp://HOST:PORT"`` uses a running dask cluster with its own configuration (its workers should be
+started with ``--nthreads 1`` and ``OPENBLAS_NUM_THREADS=1``).  Tasks carry plain dicts of parameters; each
 worker process plans its own FFTs (``numerics.fft`` keeps plans per thread) and nothing but the
 parameter dict and the result row cross the wire.
 
@@ -67,8 +70,7 @@ from .physics.scene import PAPER_SCENE
 
 __all__ = ["sweep", "OPTIONS", "TIMING_COLUMNS", "STATUSES", "parse_values", "read_spec",
            "scenes", "scene_key", "solve_row", "table_columns", "connect_scheduler", "local_client",
-           "check_workers",
-           "map_tasks"]
+           "DASK_CONFIG", "check_workers", "map_tasks"]
 
 STATUSES = ("ok", "input_error", "not_converged", "crashed")
 TIMING_COLUMNS = ("wall_time_s", "plan_time_s")
@@ -485,20 +487,42 @@ def check_workers(client, what: str, timeout: float = 10.0) -> int:
     return sum(client.nthreads().values())
 
 
+# dask settings of the sweep's LocalCluster (its scheduler and nannies in this process, and the
+# worker processes, which get the nannies' copy): its periodic work costs CPU on the cores that
+# solve.  Measured on 2 cores, 400 2D scenes of ~10 ms (studies/benchmark_sweep.py): the workers'
+# statistical profiler (it takes the GIL from the solve every 10 ms to walk its stack) and the
+# 20 ms event-loop tick, the system and memory monitors cost an idle 2-worker cluster ~0.06 core
+# s per s (0.014 with these settings); the profiler feeds only the dashboard, which is off.
+# glibc: the nannies set MALLOC_TRIM_THRESHOLD_=65536 in the workers, which also freezes glibc's
+# mmap threshold at 128 KiB: every array above it is mmap'd and faulted in anew (~60000 more
+# page faults per 400 scenes than in a plain process); None leaves glibc's defaults, as in the
+# serial engine (unless this process's environment sets the variable itself).
+DASK_CONFIG = {
+    "distributed.worker.profile.enabled": False,
+    "distributed.admin.tick.interval": "1s",
+    "distributed.admin.system-monitor.interval": "10s",
+    "distributed.worker.memory.monitor-interval": "500ms",
+    "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
+}
+
+
 def local_client(workers: int | None = None):
     """A dask LocalCluster of ``workers`` processes (default: the cores), one thread each, BLAS
-    pinned to one thread; returns (client, cluster): close both when done."""
+    pinned to one thread, with ``DASK_CONFIG`` (this process's dask config is left as it was);
+    returns (client, cluster): close both when done."""
     _need_dask()
     workers = workers or _default_workers()
     import logging
 
-    from distributed import Client, LocalCluster
+    import dask
+    from distributed import Client, LocalCluster  # before dask.config.set: its defaults first
 
     # on 127.0.0.1 only; no dashboard; the scheduler's health page on a free port (not 8787)
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                           host="127.0.0.1", dashboard_address=None,
-                           scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0"},
-                           silence_logs=logging.CRITICAL, env=dict(WORKER_ENV))
+    with dask.config.set(DASK_CONFIG):
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               host="127.0.0.1", dashboard_address=None,
+                               scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0"},
+                               silence_logs=logging.CRITICAL, env=dict(WORKER_ENV))
     return Client(cluster, set_as_default=False), cluster
 
 

@@ -375,6 +375,36 @@ def test_map_tasks_keeps_order_and_raises(tmp_path):
         cluster.close()
 
 
+def _worker_settings():
+    import dask
+
+    return (dask.config.get("distributed.worker.profile.enabled"),
+            dask.config.get("distributed.worker.memory.monitor-interval"),
+            os.environ.get("MALLOC_TRIM_THRESHOLD_"), os.environ.get("OPENBLAS_NUM_THREADS"))
+
+
+def test_local_cluster_settings_reach_the_workers_and_stay_there(monkeypatch):
+    import dask
+
+    from spectral_contact.sweep import DASK_CONFIG, local_client
+
+    # a dask Nanny started earlier in this process (default config) leaves the variable in
+    # os.environ, which the workers would inherit: this test is about the sweep's own settings
+    monkeypatch.delenv("MALLOC_TRIM_THRESHOLD_", raising=False)
+    before = dask.config.get("distributed.worker.profile.enabled")
+    client, cluster = local_client(1)
+    try:
+        settings = list(client.run(_worker_settings).values())
+    finally:
+        client.close()
+        cluster.close()
+    assert settings == [(False, DASK_CONFIG["distributed.worker.memory.monitor-interval"], None, "1")]
+    # this process's config is as it was (set only around the cluster's creation)
+    assert dask.config.get("distributed.worker.profile.enabled") == before is True
+    assert dask.config.get("distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_") is not None
+    assert "MALLOC_TRIM_THRESHOLD_" not in os.environ
+
+
 def test_missing_extra_is_one_line_naming_it(tmp_path, monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "distributed", None)  # as if dask.distributed were absent
     assert main(["sweep", "--load", "100", "--tol", "1e-3", "--workers", "2",
