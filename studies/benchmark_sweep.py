@@ -14,7 +14,7 @@ P_L = 20 ... 380 N/m by 40 x mu_d = 0, 1, 2, 3).  Each engine solves the same li
 Columns: wall_s (the sweep, cluster start-up excluded), per_scene_ms, vs_serial (wall time /
 serial wall time), start_s (cluster start-up), solve_sum_s (sum of the solver's own wall_time_s
 over the scenes: the bare solves), tasks (dask tasks: the sweep batches scenes into tasks of
-~0.25 s of solving once it knows their cost, ``sweep.TASK_SECONDS``), identical (the table
+~0.5 s of solving once it knows their cost, ``sweep.TASK_SECONDS``), identical (the table
 equals the serial one bit for bit, timing columns aside).  Dask's cost per scene is reported two ways:
 
     overhead_per_scene_ms = (wall(dask-1) - wall(serial)) / scenes   one worker does the serial

@@ -375,6 +375,18 @@ def test_map_tasks_keeps_order_and_raises(tmp_path):
         cluster.close()
 
 
+def test_batches_of_half_a_second_shrinking_to_a_twentieth_at_the_end():
+    from spectral_contact.sweep import _batch_size
+
+    ten_ms = [0.01] * 64
+    assert _batch_size(ten_ms[:1], 400, 2) == 1          # until each thread has timed a scene
+    assert _batch_size(ten_ms, 400, 2) == 50             # 0.5 s of 10 ms scenes
+    assert _batch_size([0.001] * 8, 4000, 2) == 64       # at most MAX_BATCH
+    assert _batch_size(ten_ms, 60, 2) == 15              # the end of the queue: a quarter per thread
+    assert _batch_size(ten_ms, 8, 2) == 5                # ... but 0.05 s at least
+    assert _batch_size([2.0] * 8, 400, 2) == 1           # scenes of seconds one by one
+
+
 def _worker_settings():
     import dask
 
