@@ -492,12 +492,15 @@ def check_workers(client, what: str, timeout: float = 10.0) -> int:
 # worker processes, which get the nannies' copy): its periodic work costs CPU on the cores that
 # solve.  Measured on 2 cores, 400 2D scenes of ~10 ms (studies/benchmark_sweep.py): the workers'
 # statistical profiler (it takes the GIL from the solve every 10 ms to walk its stack) and the
-# 20 ms event-loop tick, the system and memory monitors cost an idle 2-worker cluster ~0.06 core
-# s per s (0.014 with these settings); the profiler feeds only the dashboard, which is off.
+# 20 ms event-loop tick, the system and memory monitors cost an idle 2-worker cluster 0.066 core
+# s per s (0.015 with these settings); the profiler feeds only the dashboard, which is off.
 # glibc: the nannies set MALLOC_TRIM_THRESHOLD_=65536 in the workers, which also freezes glibc's
-# mmap threshold at 128 KiB: every array above it is mmap'd and faulted in anew (~60000 more
-# page faults per 400 scenes than in a plain process); None leaves glibc's defaults, as in the
-# serial engine (unless this process's environment sets the variable itself).
+# mmap threshold at 128 KiB: every array above it is mmap'd and faulted in anew (91000 page
+# faults in the workers for those 400 scenes, 14000 without); None leaves glibc's defaults, as in
+# the serial engine (unless this process's environment has the variable: a dask Nanny started
+# here with dask's default config writes it into os.environ, and the workers inherit it).
+# Together, the solving thread's CPU went from 1.01-1.05 to 0.93-0.97 x a plain process's main
+# thread's (1 worker, the same scenes in alternation; profiler alone -3 %, glibc alone -3.5 %).
 DASK_CONFIG = {
     "distributed.worker.profile.enabled": False,
     "distributed.admin.tick.interval": "1s",
