@@ -14,7 +14,8 @@ OpenBLAS/OpenMP/MKL pinned to one thread through the workers' environment, and d
 tick and system/memory monitors, glibc's own malloc thresholds instead of the nannies'
 MALLOC_TRIM_THRESHOLD_=65536; set only around the cluster's creation); ``scheduler=
 "tcp://HOST:PORT"`` uses a running dask cluster with its own configuration (its workers should be
-started with ``--nthreads 1`` and ``OPENBLAS_NUM_THREADS=1``).  Tasks carry plain dicts of parameters; each
+started with ``--nthreads 1`` and ``OPENBLAS_NUM_THREADS=1``, and a dask config file with the
+worker and nanny keys of ``DASK_CONFIG``: see README).  Tasks carry plain dicts of parameters; each
 worker process plans its own FFTs (``numerics.fft`` keeps plans per thread) and nothing but the
 parameter dict and the result row cross the wire.
 
@@ -542,8 +543,8 @@ def _task_batch(batch: list, profiles: bool = False) -> list:
 
 # Scenes are batched into tasks of about TASK_SECONDS of solving (at most MAX_BATCH scenes); at
 # the end of the queue batches shrink so that the workers finish together, but not below
-# MIN_TASK_SECONDS.  A task costs ~5 ms of CPU besides the solves (~3 ms in the process that
-# runs a LocalCluster's scheduler, ~2 ms in the worker), on the cores that solve: 400 scenes of
+# MIN_TASK_SECONDS.  A task costs 5-10 ms of CPU besides the solves (3-5 ms in the process that
+# runs a LocalCluster's scheduler, 2-4 ms in the worker), on the cores that solve: 400 scenes of
 # 10 ms on 2 workers took 60-70 tasks (0.25 s, 32, no floor) and take ~40 (main process CPU
 # 0.43 -> 0.27 s, loaded machine); the last tasks' imbalance stays below ~50 ms.
 TASK_SECONDS = 0.5
@@ -593,7 +594,7 @@ def _batch_size(seconds: list, left: int, threads: int) -> int:
 def _run_dask(client, todo, profiles, on_result):
     """Submit the scenes in batches (one scene per task until solve times are known, then
     batches of ~TASK_SECONDS, shrinking at the end of the queue to MIN_TASK_SECONDS: 2D scenes of
-    milliseconds go by tens, so dask's ~5 ms of CPU per task stays small; scenes of seconds go
+    milliseconds go by tens, so dask's 5-10 ms of CPU per task stays small; scenes of seconds go
     one by one), keeping 4 tasks per worker thread in flight; each row is handed to
     ``on_result`` as its task returns."""
     from collections import deque
