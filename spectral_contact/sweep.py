@@ -592,11 +592,11 @@ def _batch_size(seconds: list, left: int, threads: int) -> int:
 
 
 def _run_dask(client, todo, profiles, on_result):
-    """Submit the scenes in batches (one scene per task until solve times are known, then
-    batches of ~TASK_SECONDS, shrinking at the end of the queue to MIN_TASK_SECONDS: 2D scenes of
-    milliseconds go by tens, so dask's 5-10 ms of CPU per task stays small; scenes of seconds go
-    one by one), keeping 4 tasks per worker thread in flight; each row is handed to
-    ``on_result`` as its task returns."""
+    """Submit the scenes in batches (one scene per task, two tasks per worker thread in flight,
+    until solve times are known; then batches of ~TASK_SECONDS, shrinking at the end of the queue
+    to MIN_TASK_SECONDS, four per thread in flight: 2D scenes of milliseconds go by tens, so
+    dask's 5-10 ms of CPU per task stays small; scenes of seconds go one by one); each row is
+    handed to ``on_result`` as its task returns."""
     from collections import deque
 
     from distributed import as_completed
@@ -636,15 +636,19 @@ def _run_dask(client, todo, profiles, on_result):
                 return
             results = [(_crashed_row(batch[0], exc), None)]
         fut.release()
-        if queue or alone:
-            submit()
-        for params, (row, prof) in zip(batch, results):
+        for row, _ in results:  # the times first: the next batch is sized with them
             if row["status"] == "ok":
                 seconds.append(row["wall_time_s"] + row["plan_time_s"])
+        while (queue or alone) and len(pending) < in_flight():
+            submit()
+        for params, (row, prof) in zip(batch, results):
             on_result(params, row, prof)
 
+    def in_flight():  # 2 single scenes per thread until their times are known, then 4 batches
+        return (4 if len(seconds) >= threads else 2) * threads
+
     try:
-        for _ in range(min(4 * threads, len(queue))):
+        while queue and len(pending) < in_flight():
             submit()
         try:
             for fut in _completions(client, ac):
