@@ -403,7 +403,7 @@ def test_local_cluster_settings_reach_the_workers_and_stay_there(monkeypatch):
     # a dask Nanny started earlier in this process (default config) leaves the variable in
     # os.environ, which the workers would inherit: this test is about the sweep's own settings
     monkeypatch.delenv("MALLOC_TRIM_THRESHOLD_", raising=False)
-    before = dask.config.get("distributed.worker.profile.enabled")
+    before = {k: dask.config.get(k, default="absent") for k in DASK_CONFIG}
     client, cluster = local_client(1)
     try:
         settings = list(client.run(_worker_settings).values())
@@ -412,8 +412,8 @@ def test_local_cluster_settings_reach_the_workers_and_stay_there(monkeypatch):
         cluster.close()
     assert settings == [(False, DASK_CONFIG["distributed.worker.memory.monitor-interval"], None, "1")]
     # this process's config is as it was (set only around the cluster's creation)
-    assert dask.config.get("distributed.worker.profile.enabled") == before is True
-    assert dask.config.get("distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_") is not None
+    assert {k: dask.config.get(k, default="absent") for k in DASK_CONFIG} == before
+    assert before["distributed.worker.profile.enabled"] is not False  # dask's default: a real change
     assert "MALLOC_TRIM_THRESHOLD_" not in os.environ
 
 
