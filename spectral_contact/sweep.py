@@ -9,9 +9,13 @@ Values (SI, the units of ``solve``): a number, a list, a comma list "0.3,1,2,3" 
 
 Engines: ``engine="serial"`` solves in this process; ``engine="local"`` (default) starts a dask
 LocalCluster of ``workers`` processes (default: the machine's cores), one thread each, with
-OpenBLAS/OpenMP/MKL pinned to one thread through the workers' environment; ``scheduler=
-"tcp://HOST:PORT"`` uses a running dask cluster (its workers should be started with
-``--nthreads 1`` and ``OPENBLAS_NUM_THREADS=1``).  Tasks carry plain dicts of parameters; each
+OpenBLAS/OpenMP/MKL pinned to one thread through the workers' environment, and dask settings
+``DASK_CONFIG`` that spare the cores (no statistical profiler in the workers, slower event-loop
+tick and system/memory monitors, glibc's own malloc thresholds instead of the nannies'
+MALLOC_TRIM_THRESHOLD_=65536; set only around the cluster's creation); ``scheduler=
+"tcp://HOST:PORT"`` uses a running dask cluster with its own configuration (its workers should be
+started with ``--nthreads 1`` and ``OPENBLAS_NUM_THREADS=1``, and a dask config file with the
+worker and nanny keys of ``DASK_CONFIG``: see README).  Tasks carry plain dicts of parameters; each
 worker process plans its own FFTs (``numerics.fft`` keeps plans per thread) and nothing but the
 parameter dict and the result row cross the wire.
 
@@ -55,6 +59,7 @@ import itertools
 import json
 import math
 import os
+import statistics
 import sys
 import tempfile
 import time
@@ -67,8 +72,7 @@ from .physics.scene import PAPER_SCENE
 
 __all__ = ["sweep", "OPTIONS", "TIMING_COLUMNS", "STATUSES", "parse_values", "read_spec",
            "scenes", "scene_key", "solve_row", "table_columns", "connect_scheduler", "local_client",
-           "check_workers",
-           "map_tasks"]
+           "DASK_CONFIG", "check_workers", "map_tasks"]
 
 STATUSES = ("ok", "input_error", "not_converged", "crashed")
 TIMING_COLUMNS = ("wall_time_s", "plan_time_s")
@@ -485,20 +489,45 @@ def check_workers(client, what: str, timeout: float = 10.0) -> int:
     return sum(client.nthreads().values())
 
 
+# dask settings of the sweep's LocalCluster (its scheduler and nannies in this process, and the
+# worker processes, which get the nannies' copy): its periodic work costs CPU on the cores that
+# solve.  Measured on 2 cores, 400 2D scenes of ~10 ms (studies/benchmark_sweep.py): the workers'
+# statistical profiler (it takes the GIL from the solve every 10 ms to walk its stack) and the
+# 20 ms event-loop tick, the system and memory monitors cost an idle 2-worker cluster 0.066 core
+# s per s (0.015 with these settings); the profiler feeds only the dashboard, which is off.
+# glibc: the nannies set MALLOC_TRIM_THRESHOLD_=65536 in the workers, which also freezes glibc's
+# mmap threshold at 128 KiB: every array above it is mmap'd and faulted in anew (91000 page
+# faults in the workers for those 400 scenes, 14000 without); None leaves glibc's defaults, as in
+# the serial engine (unless this process's environment has the variable: a dask Nanny started
+# here with dask's default config writes it into os.environ, and the workers inherit it).
+# Together, the solving thread's CPU went from 1.01-1.05 to 0.93-0.97 x a plain process's main
+# thread's (1 worker, the same scenes in alternation; profiler alone -3 %, glibc alone -3.5 %).
+DASK_CONFIG = {
+    "distributed.worker.profile.enabled": False,
+    "distributed.admin.tick.interval": "1s",
+    "distributed.admin.system-monitor.interval": "10s",
+    "distributed.worker.memory.monitor-interval": "500ms",
+    "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
+}
+
+
 def local_client(workers: int | None = None):
     """A dask LocalCluster of ``workers`` processes (default: the cores), one thread each, BLAS
-    pinned to one thread; returns (client, cluster): close both when done."""
+    pinned to one thread, with ``DASK_CONFIG`` (this process's dask config is left as it was);
+    returns (client, cluster): close both when done."""
     _need_dask()
     workers = workers or _default_workers()
     import logging
 
-    from distributed import Client, LocalCluster
+    import dask
+    from distributed import Client, LocalCluster  # before dask.config.set: its defaults first
 
     # on 127.0.0.1 only; no dashboard; the scheduler's health page on a free port (not 8787)
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                           host="127.0.0.1", dashboard_address=None,
-                           scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0"},
-                           silence_logs=logging.CRITICAL, env=dict(WORKER_ENV))
+    with dask.config.set(DASK_CONFIG):
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               host="127.0.0.1", dashboard_address=None,
+                               scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0"},
+                               silence_logs=logging.CRITICAL, env=dict(WORKER_ENV))
     return Client(cluster, set_as_default=False), cluster
 
 
@@ -512,8 +541,15 @@ def _task_batch(batch: list, profiles: bool = False) -> list:
     return [_task(p, profiles) for p in batch]
 
 
-TASK_SECONDS = 0.25   # scenes are batched into tasks of about this many seconds of solving
-MAX_BATCH = 32
+# Scenes are batched into tasks of about TASK_SECONDS of solving (at most MAX_BATCH scenes); at
+# the end of the queue batches shrink so that the workers finish together, but not below
+# MIN_TASK_SECONDS.  A task costs 5-10 ms of CPU besides the solves (3-5 ms in the process that
+# runs a LocalCluster's scheduler, 2-4 ms in the worker), on the cores that solve: 400 scenes of
+# 10 ms on 2 workers took 60-70 tasks (0.25 s, 32, no floor) and take ~40 (main process CPU
+# 0.43 -> 0.27 s, loaded machine); the last tasks' imbalance stays below ~50 ms.
+TASK_SECONDS = 0.5
+MAX_BATCH = 64
+MIN_TASK_SECONDS = 0.05
 
 
 NO_WORKER_SECONDS = 60.0   # a cluster without any worker for this long ends the wait
@@ -545,12 +581,22 @@ def _completions(client, ac):
                 raise NoWorkersError(f"the cluster has had no worker for {NO_WORKER_SECONDS:g} s")
 
 
+def _batch_size(seconds: list, left: int, threads: int) -> int:
+    """Scenes in the next task: 1 until ``threads`` solve times (``seconds``) are known, then
+    ~TASK_SECONDS of solving at their recent median (at most MAX_BATCH), cut to a quarter of the
+    ``left`` scenes per thread at the end of the queue, but never below MIN_TASK_SECONDS."""
+    if len(seconds) < threads:
+        return 1
+    t = max(statistics.median(seconds[-64:]), 1e-6)
+    return max(1, int(MIN_TASK_SECONDS / t), min(int(TASK_SECONDS / t), MAX_BATCH, left // (2 * threads)))
+
+
 def _run_dask(client, todo, profiles, on_result):
-    """Submit the scenes in batches (one scene per task until solve times are known, then
-    batches of ~TASK_SECONDS: 2D scenes of milliseconds go by tens, so dask's ~1-2 ms per task
-    stays small; scenes of seconds go one by one), keeping 4 tasks per worker thread in flight;
-    each row is handed to ``on_result`` as its task returns."""
-    import statistics
+    """Submit the scenes in batches (one scene per task, two tasks per worker thread in flight,
+    until solve times are known; then batches of ~TASK_SECONDS, shrinking at the end of the queue
+    to MIN_TASK_SECONDS, four per thread in flight: 2D scenes of milliseconds go by tens, so
+    dask's 5-10 ms of CPU per task stays small; scenes of seconds go one by one); each row is
+    handed to ``on_result`` as its task returns."""
     from collections import deque
 
     from distributed import as_completed
@@ -564,10 +610,7 @@ def _run_dask(client, todo, profiles, on_result):
     submitted = [0]
 
     def batch_size():
-        if len(seconds) < threads:
-            return 1
-        b = int(TASK_SECONDS / max(statistics.median(seconds[-64:]), 1e-6))
-        return max(1, min(b, MAX_BATCH, len(queue) // (2 * threads)))
+        return _batch_size(seconds, len(queue), threads)
 
     def submit():
         if alone:  # scenes of a batch whose worker died: one per task, to find the culprit
@@ -593,15 +636,19 @@ def _run_dask(client, todo, profiles, on_result):
                 return
             results = [(_crashed_row(batch[0], exc), None)]
         fut.release()
-        if queue or alone:
-            submit()
-        for params, (row, prof) in zip(batch, results):
+        for row, _ in results:  # the times first: the next batch is sized with them
             if row["status"] == "ok":
                 seconds.append(row["wall_time_s"] + row["plan_time_s"])
+        while (queue or alone) and len(pending) < in_flight():
+            submit()
+        for params, (row, prof) in zip(batch, results):
             on_result(params, row, prof)
 
+    def in_flight():  # 2 single scenes per thread until their times are known, then 4 batches
+        return (4 if len(seconds) >= threads else 2) * threads
+
     try:
-        for _ in range(min(4 * threads, len(queue))):
+        while queue and len(pending) < in_flight():
             submit()
         try:
             for fut in _completions(client, ac):

@@ -375,6 +375,48 @@ def test_map_tasks_keeps_order_and_raises(tmp_path):
         cluster.close()
 
 
+def test_batches_of_half_a_second_shrinking_to_a_twentieth_at_the_end():
+    from spectral_contact.sweep import _batch_size
+
+    ten_ms = [0.01] * 64
+    assert _batch_size(ten_ms[:1], 400, 2) == 1          # until each thread has timed a scene
+    assert _batch_size(ten_ms, 400, 2) == 50             # 0.5 s of 10 ms scenes
+    assert _batch_size([0.001] * 8, 4000, 2) == 64       # at most MAX_BATCH
+    assert _batch_size(ten_ms, 60, 2) == 15              # the end of the queue: a quarter per thread
+    assert _batch_size(ten_ms, 8, 2) == 5                # ... but 0.05 s at least
+    assert _batch_size([2.0] * 8, 400, 2) == 1           # scenes of seconds one by one
+
+
+def _worker_settings():
+    import dask
+
+    return (dask.config.get("distributed.worker.profile.enabled"),
+            dask.config.get("distributed.worker.memory.monitor-interval"),
+            os.environ.get("MALLOC_TRIM_THRESHOLD_"), os.environ.get("OPENBLAS_NUM_THREADS"))
+
+
+def test_local_cluster_settings_reach_the_workers_and_stay_there(monkeypatch):
+    import dask
+
+    from spectral_contact.sweep import DASK_CONFIG, local_client
+
+    # a dask Nanny started earlier in this process (default config) leaves the variable in
+    # os.environ, which the workers would inherit: this test is about the sweep's own settings
+    monkeypatch.delenv("MALLOC_TRIM_THRESHOLD_", raising=False)
+    before = {k: dask.config.get(k, default="absent") for k in DASK_CONFIG}
+    client, cluster = local_client(1)
+    try:
+        settings = list(client.run(_worker_settings).values())
+    finally:
+        client.close()
+        cluster.close()
+    assert settings == [(False, DASK_CONFIG["distributed.worker.memory.monitor-interval"], None, "1")]
+    # this process's config is as it was (set only around the cluster's creation)
+    assert {k: dask.config.get(k, default="absent") for k in DASK_CONFIG} == before
+    assert before["distributed.worker.profile.enabled"] is not False  # dask's default: a real change
+    assert "MALLOC_TRIM_THRESHOLD_" not in os.environ
+
+
 def test_missing_extra_is_one_line_naming_it(tmp_path, monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "distributed", None)  # as if dask.distributed were absent
     assert main(["sweep", "--load", "100", "--tol", "1e-3", "--workers", "2",
