@@ -626,7 +626,23 @@ def _run_dask(client, todo, profiles, on_result):
     def handle(fut):
         _, batch = pending.pop(fut.key)
         try:
-            results = fut.result()
+            # a finished task whose worker then died has lost its result: dask would wait
+            # for a recomputation forever if no worker is left
+            results = fut.result(timeout=NO_WORKER_SECONDS)
+        except TimeoutError:
+            fut.release()
+            if not client.nthreads():  # every scene left becomes a crashed row (below)
+                alone.extend(batch)
+                raise NoWorkersError(f"the cluster has had no worker for {NO_WORKER_SECONDS:g} s") from None
+            for params in batch:  # solved once more, one per task; lost twice: crashed
+                if scene_key(params) in lost:
+                    on_result(params, _crashed_row(params, RuntimeError(
+                        "the result was lost twice with its worker")), None)
+                else:
+                    lost.add(scene_key(params))
+                    alone.append(params)
+                    submit()
+            return
         except Exception as exc:  # noqa: BLE001 -- a dead worker (KilledWorker), a lost task
             fut.release()
             if len(batch) > 1:
@@ -643,6 +659,8 @@ def _run_dask(client, todo, profiles, on_result):
             submit()
         for params, (row, prof) in zip(batch, results):
             on_result(params, row, prof)
+
+    lost = set()  # scenes whose finished result was lost with its worker
 
     def in_flight():  # 2 single scenes per thread until their times are known, then 4 batches
         return (4 if len(seconds) >= threads else 2) * threads
@@ -884,7 +902,12 @@ def map_tasks(func, items, *, engine: str = "auto", workers: int | None = None,
             pending[fut.key] = (fut, i)
             futures.append(fut)
         for fut in _completions(client, as_completed(futures, loop=client.loop)):
-            results[pending.pop(fut.key)[1]] = fut.result()
+            try:  # a finished task whose worker then died has lost its result (see _run_dask)
+                results[pending[fut.key][1]] = fut.result(timeout=NO_WORKER_SECONDS)
+            except TimeoutError:
+                raise NoWorkersError(f"a result was lost with its worker and not recomputed "
+                                     f"within {NO_WORKER_SECONDS:g} s") from None
+            pending.pop(fut.key)
             bar.update(False)
             fut.release()
     finally:
