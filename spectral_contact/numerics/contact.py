@@ -45,9 +45,15 @@ _SEARCH_STEPS = 8  # active-set steps at most at the loose search_rtol (mu = 30:
 _NESTED_MIN = {1: 2**13, 2: 64}  # grids of at least twice this per axis start from the
 # half-resolution solution (1D: only large grids, so the automatic solver's locators and levels,
 # which are small or warm-started, keep their numbers)
-_NESTED_FLOOR = {1: 2**10, 2: 64}  # and the chain of halvings goes down to this (a cold solve
-# costs ~10 active-set steps at any N: measured 10 steps, 80 GMRES at 2^13, at a 64th the price
-# at 2^10, with the three extra nested levels one step each)
+_NESTED_FLOOR = {1: 2**13, 2: 64}  # and the chain of halvings goes down to this.  In 1D the
+# cold solve's extrapolated edges (_shrunk_ends) take it to ~4 active-set steps (6 GMRES each)
+# at any N, about what the three extra levels below 2^13 cost (one step each, and the cold one).
+# Measured (paper scene's period and load, frictionless, rtol 1e-10, median CPU ratios in one
+# process): floor 2^13 / floor 2^10: film 2^14 0.98 (112 -> 72 FFT pairs), 2^16 0.99
+# (140 -> 100), 2^18 0.99 (172 -> 132); half-space 2^14 0.82 (74 -> 44), 2^16 0.98, 2^18 0.99.
+# 160 scenes (2^14, 2^16; loads 0.5-300, mu -1...5, three films, L 21.38 and 60): active-set
+# steps 2041 -> 1505, FFT pairs 33658 -> 25826.  (Before the extrapolation: 2^10, a cold
+# solve then cost ~10 steps at any N.)
 _EDGE_REACH = 0.15  # nested first set: the fine nodes within this many cells beyond the coarse
 # solution's fitted edges.  Measured (active-set steps of the whole chain, summed over 6 scenes,
 # loads 5-380 N/m, mu -1...2.6, cold at 2^20): reach 0: 111, 0.08: 105, 0.15: 99, 0.25: 104,
