@@ -146,3 +146,21 @@ def test_two_dimensional_mirror_symmetry_is_exact():
     w_m = op_m.apply(pm)
     np.testing.assert_allclose(w_m, w_p[(-np.arange(64)) % 64, :], atol=1e-14)
     assert np.all(np.isreal(op_p.symbol[g.nyquist_mask]))
+
+
+@pytest.mark.parametrize("thickness", [1.0, 1e12])
+def test_cold_start_extrapolated_edges_same_solution_fewer_steps(thickness):
+    """The cold start's extrapolated shrinking steps change the path only: the same active set
+    and the pressure to the solver's tolerance, in no more active-set steps (the film at the
+    paper scene's period and load, 2^12 points: 8 plain steps, 4 extrapolated)."""
+    g = Grid.centered(2**12, 21.380848262211956, 0.0)
+    film = Film(thickness=thickness)
+    ind = [Cylinder(0.0, 17.72727272727273)]
+    ref = solve_contact(g, 0.0, ind, rtol=1e-13, film=film, extrapolate=False)
+    plain = solve_contact(g, 0.0, ind, film=film, extrapolate=False)
+    fast = solve_contact(g, 0.0, ind, film=film)
+    assert np.array_equal(fast.active, ref.active)
+    assert np.max(np.abs(fast.pressure - ref.pressure)) <= 1e-6 * ref.pressure.max()
+    assert fast.iterations <= plain.iterations
+    if thickness == 1.0:
+        assert plain.iterations >= 7 and fast.iterations <= 5

@@ -45,13 +45,25 @@ _SEARCH_STEPS = 8  # active-set steps at most at the loose search_rtol (mu = 30:
 _NESTED_MIN = {1: 2**13, 2: 64}  # grids of at least twice this per axis start from the
 # half-resolution solution (1D: only large grids, so the automatic solver's locators and levels,
 # which are small or warm-started, keep their numbers)
-_NESTED_FLOOR = {1: 2**10, 2: 64}  # and the chain of halvings goes down to this (a cold solve
-# costs ~10 active-set steps at any N: measured 10 steps, 80 GMRES at 2^13, at a 64th the price
-# at 2^10, with the three extra nested levels one step each)
+_NESTED_FLOOR = {1: 2**13, 2: 64}  # and the chain of halvings goes down to this.  In 1D the
+# cold solve's extrapolated edges (_shrunk_ends) take it to ~4 active-set steps (6 GMRES each)
+# at any N, about what the three extra levels below 2^13 cost (one step each, and the cold one).
+# Measured (paper scene's period and load, frictionless, rtol 1e-10, median CPU ratios in one
+# process): floor 2^13 / floor 2^10: film 2^14 0.98 (112 -> 72 FFT pairs), 2^16 0.99
+# (140 -> 100), 2^18 0.99 (172 -> 132); half-space 2^14 0.82 (74 -> 44), 2^16 0.98, 2^18 0.99.
+# 160 scenes (2^14, 2^16; loads 0.5-300, mu -1...5, three films, L 21.38 and 60): active-set
+# steps 2041 -> 1505, FFT pairs 33658 -> 25826.  (Before the extrapolation: 2^10, a cold
+# solve then cost ~10 steps at any N.)
 _EDGE_REACH = 0.15  # nested first set: the fine nodes within this many cells beyond the coarse
 # solution's fitted edges.  Measured (active-set steps of the whole chain, summed over 6 scenes,
 # loads 5-380 N/m, mu -1...2.6, cold at 2^20): reach 0: 111, 0.08: 105, 0.15: 99, 0.25: 104,
 # 0.35: 116
+_EXTRAP_WEIGHT = 0.7  # the cold start's shrinking steps extrapolate the edges (_shrunk_ends)
+_EXTRAP_STEPS = 3  # this many times at most (then plain steps: they cannot cycle through them)
+_SET_EDGE = 0.5  # a set's continuum edge, in cells beyond its end node.  Measured (cold, rtol
+# 1e-10, 72 scenes: N 2^10-2^13, loads 3.5-53, mu 0 and 1, the film and the half-space; active-
+# set steps, FFT pairs): plain 179, 2724; weight 0.7 edge 0.5 at most 3 times: 117-120, 1852-1872;
+# weight 1: 138, 2129 (more overshoot, two-set cycles undone by the union below); 2 times: 121
 
 
 def refine_nested(p: np.ndarray) -> np.ndarray:
@@ -109,7 +121,8 @@ def compliance_operator(shape: tuple, lengths: tuple, mu: float, film: Film = Fi
 def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray, loads, *,
                           p_init: np.ndarray, rtol: float = 1e-10, accept: float | None = None,
                           max_outer: int = 200, max_krylov: int = 2000, grid: Grid | None = None,
-                          search_rtol: float | None = None) -> ContactSolution:
+                          search_rtol: float | None = None, extrapolate: bool = False
+                          ) -> ContactSolution:
     """Contact of rigid bodies of heights ``f`` (one field on the grid: each node's height above
     the apex of the body that ``owner`` says it belongs to) pressed with ``loads`` (one per body,
     dimensionless; a body with load 0 is lifted off) on the surface of compliance ``op``.
@@ -123,6 +136,9 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
              outer iterations solve to it until the set repeats, then to ``rtol`` (at least one
              more solve, whose set must hold as before).  Only the path changes, not what is
              accepted: for a far first guess (a locator), whose first sets are far off anyway.
+    extrapolate : 1D, one body: while the set only sheds tensile end nodes, put its next ends
+             where the edges extrapolate to (``_shrunk_ends``) instead of at the pressure's zero
+             crossings, which halve the excess per step.  Only the path changes.
     """
     shape = op.grid.shape
     cell = op.grid.cell
@@ -159,6 +175,8 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
     history = []
     krylov_total = 0
     rt = max(rtol, search_rtol or rtol)  # the inner tolerance of this outer iteration
+    extrapolate = _EXTRAP_STEPS if extrapolate and M == 1 and ndim == 1 else 0
+    extrapolated = False  # whether a step was extrapolated (and no cycle met since)
     for outer in range(1, max_outer + 1):  # noqa: B007 (the count is reported after the loop)
         idx = active.nonzero()[0]  # (np.flatnonzero of the flat array, without its wrapper)
         own = owner[idx] if M > 1 else None
@@ -260,6 +278,17 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
             new[sel] = p[sel] >= 0
             if not touch_all:
                 new &= can_touch
+            if extrapolate and ni > 2 and not (new[:sel.start].any() or new[sel.stop:].any()):
+                ends = _shrunk_ends(p[sel], sel.start, 1 if outer == 1 else 0)
+                if ends is not None:
+                    extrapolate -= 1
+                    extrapolated = True
+                    if not extrapolate:  # the last: then plain steps, whose cycle check
+                        seen.clear()     # forgets the extrapolated path
+                    new[sel] = False
+                    new[ends[0]:ends[1] + 1] = True
+                    if not touch_all:
+                        new &= can_touch
         else:
             new = ((active & (p >= 0)) | (~active & (gap < 0))) & can_touch
         history.append((ni, float(rel_res), its))
@@ -275,6 +304,12 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
                 continue
         elif settled:
             break
+        elif key in seen and extrapolated:
+            # a cycle after extrapolated steps (which may have cut into the contact): once,
+            # the union of the two sets, from which plain steps shed tensile nodes
+            extrapolated = False
+            seen.clear()
+            new |= active
         elif key in seen:
             # cycling between sets: a degenerate edge node, slightly penetrating when inactive
             # and slightly tensile when active.  Stop here; the residual check below accepts
@@ -326,9 +361,47 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
                            nfft[0], residual, residuals, history)
 
 
+def _shrunk_ends(pa: np.ndarray, start: int, min_shed: int = 0):
+    """The next active set's first and last nodes when the set [start, start + pa.size) only
+    sheds tensile end nodes (None when neither end is tensile).  On a half-space, a set of
+    half-width b about the contact's centre holds p = alpha sqrt(b^2 - x^2) + beta /
+    sqrt(b^2 - x^2), beta = alpha (a^2 - b^2) / 2 for the contact's half-width a: its zero
+    crossings x0 (what the plain step keeps) satisfy x0^2 = (a^2 + b^2) / 2, so each end is
+    moved to sqrt(2 x0^2 - b^2) from the set's centre, b its distance to the end node plus
+    _SET_EDGE cells.  The film is stiffer at long waves: its plain step sheds more than half
+    the excess, the full extrapolation overshoots into the contact, so only _EXTRAP_WEIGHT of
+    it is taken (the move is to sqrt(x0^2 - w (b^2 - x0^2))); an end that still lands inside
+    the contact is grown back by the next step's penetrated nodes.  An end that sheds at most ``min_shed`` nodes is
+    left where the plain step puts it (1 for the half-space guess, exact on a half-space but
+    for a node at each end: extrapolated, it would cut one more)."""
+    n = pa.size
+    neg = pa < 0
+    if not (neg[0] or neg[-1]) or neg.all():
+        return None
+    kl = int(np.argmin(neg))               # first node with p >= 0
+    kr = n - 1 - int(np.argmin(neg[::-1]))  # last node with p >= 0
+    c = 0.5 * (n - 1)
+    b = c + _SET_EDGE
+    ends = []
+    for k, side in ((kl, -1), (kr, 1)):
+        if abs(k - (0 if side < 0 else n - 1)) <= min_shed:  # as the plain step
+            ends.append(k)
+            continue
+        j = k + side  # the tensile node next to the zero crossing
+        x0 = k + side * pa[k] / (pa[k] - pa[j])  # linear interpolation (nodes' index units)
+        r = abs(x0 - c)
+        e = math.sqrt(max(r * r - _EXTRAP_WEIGHT * (b * b - r * r), 0.0))
+        ends.append(math.ceil(c - e) if side < 0 else math.floor(c + e))
+    lo, hi = max(ends[0], 0), min(ends[1], n - 1)
+    if lo > hi or lo > kr or hi < kl:
+        return None
+    return start + lo, start + hi
+
+
 def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None, p_init=None,
                   rtol: float = 1e-10, accept: float | None = None, max_outer: int = 200,
-                  max_krylov: int = 2000, search_rtol: float | None = None) -> ContactSolution:
+                  max_krylov: int = 2000, search_rtol: float | None = None,
+                  extrapolate: bool | None = None) -> ContactSolution:
     """Solve the contact on ``grid`` for friction ``mu`` (sliding toward +x) and the given
     indenters (``physics.indenters``: each gives its height, a first pressure guess and its
     load), on ``film`` (default: the incompressible film of thickness 1, the core's unit).
@@ -336,9 +409,13 @@ def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None,
     p_init : optional initial pressure on the grid (its support is the first active set);
              by default each loaded indenter's own guess (the half-space solution), or on
              large grids the nested start (``_nested_start``).
+    extrapolate : as ``solve_complementarity``'s; default: for the cold start (no p_init; on
+             a nested grid, its coarsest level's).
     Other options as ``solve_complementarity``.
     """
     film = film or _FILM
+    if extrapolate is None:
+        extrapolate = p_init is None
     if p_init is None and min(grid.shape) >= 2 * _NESTED_MIN.get(grid.ndim, 64) \
             and all(n % 2 == 0 for n in grid.shape):
         return _nested_start(grid, mu, indenters, film, _NESTED_FLOOR.get(grid.ndim, 64),
@@ -354,7 +431,8 @@ def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None,
         return solve_complementarity(op, ind.height(grid), np.zeros(grid.shape, dtype=np.intp),
                                      [ind.load], p_init=guess if p_init is None else p_init,
                                      rtol=rtol, accept=accept, max_outer=max_outer,
-                                     max_krylov=max_krylov, grid=grid, search_rtol=search_rtol)
+                                     max_krylov=max_krylov, grid=grid, search_rtol=search_rtol,
+                                     extrapolate=extrapolate)
     dist = np.stack([np.broadcast_to(ind.distance(grid), grid.shape) for ind in indenters])
     owner = np.argmin(dist, axis=0)  # nearest apex (periodically); ties to the first
     f = np.zeros(grid.shape)
