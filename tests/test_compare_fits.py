@@ -43,22 +43,8 @@ def test_compare_fits_recover_each_model_and_rank_it_first(truth, tmp_path, caps
 def test_compare_fits_the_poisson_ratio_on_request(tmp_path, capsys):
     """A profile made by a compressible film (nu = 0.45): the exact model with nu free recovers
     nu within 3 sigma and wins by AIC; the incompressible fit is biased (mu_d high)."""
-    import numpy as np
-
-    from spectral_contact import Scene, solve
-    from spectral_contact.instruments.sensor import sensor_view
-
-    from .test_mems import _csv
-
-    r = solve(Scene(load=TRUE["load"], mu=TRUE["mu"], poisson=0.45), tol=1e-4)
-    v = sensor_view(r)
-    x = np.arange(-16e-3, 16e-3 + 1e-9, 0.1e-3)
-    rng = np.random.default_rng(3)
-    cols = {"x_m": x}
-    for c in ("zz", "xz"):
-        e = np.interp(x - TRUE["offset"], r.x_m, v[f"S_{c}_Pa"])
-        cols[f"S_{c}_Pa"] = e + 0.01 * np.abs(e).max() * rng.standard_normal(x.size)
-    f = _csv(tmp_path / "nu045.csv", cols)
+    f, _ = _synthetic_measurement(tmp_path, "exact", P=TRUE["load"], mu=TRUE["mu"],
+                                  offset=TRUE["offset"], eta=0.01, poisson=0.45)
     assert main(["compare", str(f), "--json", "--fit-poisson"]) == 0
     rec = json.loads(capsys.readouterr().out)
     free = rec["fits"]["exact+poisson"]
@@ -112,22 +98,8 @@ def test_compare_poisson_option(tmp_path, capsys):
 def test_compare_fits_an_interface_compliance_on_request(tmp_path, capsys):
     """A profile made with a compliant interface (C = 1e-10 m/Pa, 1 % noise): the exact model
     with C free recovers it within 3 sigma and wins by AIC (measured: 1.04e-10 +- 0.06e-10)."""
-    import numpy as np
-
-    from spectral_contact import Scene, solve
-    from spectral_contact.instruments.sensor import sensor_view
-
-    from .test_mems import _csv
-
-    r = solve(Scene(load=TRUE["load"], mu=TRUE["mu"], interface_compliance=1e-10), tol=1e-4)
-    v = sensor_view(r)
-    x = np.arange(-16e-3, 16e-3 + 1e-9, 0.1e-3)
-    rng = np.random.default_rng(3)
-    cols = {"x_m": x}
-    for c in ("zz", "xz"):
-        e = np.interp(x - TRUE["offset"], r.x_m, v[f"S_{c}_Pa"])
-        cols[f"S_{c}_Pa"] = e + 0.01 * np.abs(e).max() * rng.standard_normal(x.size)
-    f = _csv(tmp_path / "soft.csv", cols)
+    f, _ = _synthetic_measurement(tmp_path, "exact", P=TRUE["load"], mu=TRUE["mu"],
+                                  offset=TRUE["offset"], eta=0.01, interface_compliance=1e-10)
     assert main(["compare", str(f), "--json", "--fit-interface"]) == 0
     rec = json.loads(capsys.readouterr().out)
     free = rec["fits"]["exact+interface"]

@@ -264,10 +264,12 @@ def test_calibrated_apparatus_feeds_the_sensor_view(rod_scan):
 # --- comparison with the models (through the CLI) ---------------------------------------------
 
 def _synthetic_measurement(tmp_path, model, P=200.0, mu=2.0, offset=1.234e-3, eta=0.005,
-                           half_window=16e-3, kind="S", seed=3):
+                           half_window=16e-3, kind="S", seed=3, **scene_options):
+    """The sensor view of ``model`` on Scene(load=P, mu=mu, **scene_options), shifted by
+    ``offset``, with noise of ``eta`` times each component's peak, written as a measured CSV."""
     from spectral_contact import Scene, solve
 
-    r = solve(Scene(load=P, mu=mu), model=model, tol=1e-4)
+    r = solve(Scene(load=P, mu=mu, **scene_options), model=model, tol=1e-4)
     v = sensor_view(r)
     x = np.arange(-half_window, half_window + 1e-9, 0.1e-3)
     rng = np.random.default_rng(seed)
