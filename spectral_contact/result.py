@@ -168,8 +168,34 @@ class ContactResult:
 
     @property
     def Q_over_P(self) -> float:  # noqa: N802 (the JSON key)
-        """The macroscopic Q/P (``friction_ratio``)."""
+        """The macroscopic Q/P: ``friction_ratio`` (+ ``deformation_friction`` for a
+        viscoelastic film, issue 23: Q = Int q dx + Int p df/dx dx)."""
+        if getattr(self.scene, "viscoelastic", False):
+            return self.friction_ratio + self.deformation_friction
         return self.friction_ratio
+
+    @property
+    def deformation_friction(self) -> float:
+        """mu_def = Int p df/dx dx / P: the horizontal force of the pressure on the indenter's
+        inclined surface over the load, f = (x - x_apex)^2 h^2/(2R) the indenter's height, so
+        mu_def = (h/R) x_p with x_p the pressure's centroid relative to the apex (in h).  Signed
+        like mu: > 0 when it opposes a motion toward +x (the pressure then pushes the indenter
+        toward -x); Q/P = mu + mu_def.  The solver's averaged centroid when it has one (its
+        error, over the contact half-width, is in ``error_estimate``), else the final grid's."""
+        m = self.info.get("pressure_centroid")
+        if m is None:
+            P = float(np.sum(self.pressure))
+            m = float(np.dot(self.pressure, self.x)) / P if P > 0 else 0.0
+        return float(m * self.scene.thickness / self.scene.radius) + 0.0
+
+    @property
+    def speed_m_per_s(self) -> float:
+        return float(getattr(self.scene, "speed", 0.0))
+
+    @property
+    def prony_terms(self) -> list:
+        """[[E_i [Pa], tau_i [s]], ...] of a viscoelastic film ([] for an elastic one)."""
+        return [list(t) for t in getattr(self.scene, "prony", ())]
 
     @property
     def interface_compliance_m_per_Pa(self) -> float:
@@ -256,6 +282,9 @@ class ContactResult:
                     "interface_length_m": self.scene.interface_length}
         if self.auto_reason is not None:
             rec["auto_reason"] = self.auto_reason
+        if getattr(self.scene, "viscoelastic", False):  # issue 23
+            rec |= {"speed_m_per_s": self.speed_m_per_s, "prony_terms": self.prony_terms,
+                    "deformation_friction": self.deformation_friction}
         return rec
 
     def summary(self) -> dict:

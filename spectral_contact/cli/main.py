@@ -72,6 +72,23 @@ def _add_scene_options(p):
                    help="p0 of the exponential interface law [Pa], > 0")
     p.add_argument("--interface-length", type=float, default=None,
                    help="lambda of the exponential interface law [m], > 0")
+    p.add_argument("--speed", type=float, default=None,
+                   help="V [m/s], the sliding speed of a viscoelastic film (--prony), signed like "
+                        "--mu (default 0: the relaxed film)")
+    p.add_argument("--prony", default=None, metavar="E1,tau1[,E2,tau2,...]",
+                   help="Prony terms of a viscoelastic film: moduli E_i [Pa] and relaxation times "
+                        "tau_i [s]; --young is the relaxed modulus E_inf (needs --speed)")
+
+
+def _visco_options(args) -> dict:
+    """Scene fields speed, prony from --speed, --prony (issue 23; {} when neither is given)."""
+    if args.prony is None:
+        return {} if args.speed is None else {"speed": args.speed}
+    from ..physics.viscoelastic import parse_prony
+
+    if args.speed is None:
+        raise InputError("--prony needs --speed V [m/s] (the sliding speed; 0: the relaxed film)")
+    return {"speed": args.speed, "prony": parse_prony(args.prony)}
 
 
 def _plural(n: int, word: str) -> str:
@@ -170,7 +187,8 @@ def _cmd_solve(args) -> int:
                   friction_exponent=args.friction_exponent, friction_pref=args.friction_pref,
                   shear_strength=args.shear_strength, shear_slope=args.shear_slope,
                   interface_compliance=args.interface_compliance, interface_law=args.interface_law,
-                  interface_pressure=args.interface_pressure, interface_length=args.interface_length)
+                  interface_pressure=args.interface_pressure, interface_length=args.interface_length,
+                  **_visco_options(args))
     outputs = check_outputs(**{"--profiles": args.profiles, "--plot": args.plot})
     if args.plot is not None:
         check_plot_path(args.plot)
@@ -274,7 +292,7 @@ def _cmd_solve3d(args) -> int:
                     friction_law=args.friction_law, friction_exponent=args.friction_exponent,
                     friction_pref=args.friction_pref, shear_strength=args.shear_strength,
                     shear_slope=args.shear_slope, interface_compliance=args.interface_compliance,
-                    **kw)
+                    **kw, **_visco_options(args))
     outputs = check_outputs(**{"--profiles": args.profiles, "--plot": args.plot,
                                "--maps": args.maps})
     if args.plot is not None:

@@ -25,7 +25,7 @@ from ..errors import InputError
 from .friction import FrictionLaw
 
 __all__ = ["Scene", "Scene3D", "INDENTERS_3D", "PAPER_SCENE", "check_finite", "check_positive",
-           "check_tol", "check_poisson", "MU_MAX", "A_OVER_H_MAX", "TOL_MIN"]
+           "check_tol", "check_poisson", "check_prony", "MU_MAX", "A_OVER_H_MAX", "TOL_MIN"]
 
 
 def check_finite(name: str, value, accepted: str) -> float:
@@ -125,6 +125,14 @@ class Scene:
         p0 [Pa] > 0 and lambda [m] > 0 of the exponential law (required by it, refused
         otherwise).  The exponential law has no sharp contact edges.
 
+    speed : float
+        V [m/s], the sliding speed, signed like ``mu`` (> 0: toward +x); used by a viscoelastic
+        film only (default 0: the relaxed, elastic film).
+    prony : tuple of (E_i [Pa], tau_i [s])
+        Prony terms of a viscoelastic film (``physics.viscoelastic``): its Young's relaxation
+        modulus is E(t) = young + sum E_i exp(-t/tau_i) (``young`` the relaxed E_inf).  Needs
+        poisson 0.5, the Amontons law and a rigid interface.  Default (): elastic.
+
     The derived units (h^2/2R, E h/6R) must be finite and > 0, and the Hertz half-width
     sqrt(P / 2 pi) at most A_OVER_H_MAX film thicknesses; else InputError names the parameter
     farthest (in decades) from the paper's value.
@@ -145,8 +153,11 @@ class Scene:
     interface_law: str = "linear"
     interface_pressure: float | None = None
     interface_length: float | None = None
+    speed: float = 0.0
+    prony: tuple = ()
 
     def __post_init__(self):
+        _check_viscoelastic(self)
         c = check_finite("interface compliance (C)", self.interface_compliance, ">= 0 m/Pa")
         if c < 0.0:
             raise InputError(f"interface compliance (C) must be >= 0 m/Pa; got {c}")
@@ -247,6 +258,12 @@ class Scene:
         return FrictionLaw(self.friction_law, self.friction_exponent, self.friction_pref,
                            self.shear_strength, self.shear_slope)
 
+    @property
+    def viscoelastic(self) -> bool:
+        """Whether the film has Prony terms (``prony``): the JSON then reports the speed, the
+        terms and the deformation friction."""
+        return bool(self.prony)
+
     # --- units -------------------------------------------------------------------------------
     @property
     def length_unit(self) -> float:
@@ -289,6 +306,44 @@ class Scene:
         from dataclasses import replace
 
         return replace(self, **changes)
+
+
+def check_prony(prony, option: str = "--prony") -> tuple:
+    """Prony terms as a tuple of (E_i [Pa], tau_i [s]) pairs, each finite and > 0.
+    InputError (one line naming ``option``) otherwise."""
+    try:
+        terms = tuple((float(e), float(t)) for e, t in prony)
+    except (TypeError, ValueError):
+        raise InputError(f"{option} must be pairs E1,tau1[,E2,tau2,...] (E_i [Pa] > 0, tau_i "
+                         f"[s] > 0); got {prony!r:.60}") from None
+    for e, t in terms:
+        if not (math.isfinite(e) and e > 0.0 and math.isfinite(t) and t > 0.0):
+            raise InputError(f"{option} terms need E_i > 0 Pa and tau_i > 0 s, finite; got "
+                             f"E = {e:g}, tau = {t:g}")
+    return terms
+
+
+def _check_viscoelastic(scene):
+    """speed and prony (issue 23): validated, prony as a tuple of pairs; one-line InputError
+    naming the CLI options."""
+    v = check_finite("--speed (V)", scene.speed, "any finite real [m/s]")
+    object.__setattr__(scene, "speed", v + 0.0)
+    if not scene.prony:
+        object.__setattr__(scene, "prony", ())
+        return
+    object.__setattr__(scene, "prony", check_prony(scene.prony))
+    if check_poisson(scene.poisson) != 0.5:
+        raise InputError(f"--prony needs --poisson 0.5 (the viscoelastic film is incompressible: "
+                         f"with an elastic bulk modulus its symbol is not a scaling of the "
+                         f"elastic one); got --poisson {scene.poisson:g}")
+    if scene.friction_law != "amontons" or scene.interface_compliance or \
+            getattr(scene, "interface_law", "linear") != "linear":
+        raise InputError("--prony takes the Amontons friction law and a rigid interface only "
+                         "(--friction-law amontons, no --interface-compliance/--interface-law)")
+    mu = check_finite("mu (mu_d)", scene.mu, "a finite real")
+    if mu * v < 0.0:
+        raise InputError(f"--speed and --mu both give the sliding direction: they must have the "
+                         f"same sign (or one be 0); got --speed {v:g}, --mu {mu:g}")
 
 
 PAPER_SCENE = Scene()
@@ -337,6 +392,9 @@ class Scene3D:
     friction_law, friction_exponent, friction_pref, shear_strength, shear_slope,
     interface_compliance :
         As ``Scene`` (issue 14): the friction law q(p) along x, a linear interface compliance.
+    speed, prony :
+        As ``Scene`` (issue 23): a viscoelastic film sliding toward +x at V [m/s] (the symbol at
+        omega = -k_x V).
 
     Dimensionless core: as ``Scene``, and the force P = F 6R / (E h^3) (stresses integrate
     over an area in h^2).
@@ -360,8 +418,11 @@ class Scene3D:
     shear_strength: float | None = None
     shear_slope: float | None = None
     interface_compliance: float = 0.0
+    speed: float = 0.0
+    prony: tuple = ()
 
     def __post_init__(self):
+        _check_viscoelastic(self)
         object.__setattr__(self, "poisson", check_poisson(self.poisson))
         c = check_finite("interface compliance (C)", self.interface_compliance, ">= 0 m/Pa")
         if c < 0.0:
@@ -409,6 +470,7 @@ class Scene3D:
                     f"{A_OVER_H_MIN_3D:g} ... {A_OVER_H_MAX_3D:g} (smaller: use model hertz)")
 
     length_unit = Scene.length_unit
+    viscoelastic = Scene.viscoelastic
     displacement_unit = Scene.displacement_unit
     stress_unit = Scene.stress_unit
     shear_modulus = Scene.shear_modulus

@@ -40,10 +40,10 @@ from ..numerics.fft import get_rfft, planning_time
 from ..numerics.friction import solve_contact_law
 from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.interface import solve_exponential_contact
-from ..physics.film import Film
 from ..physics.friction import ShearLaw
 from ..physics.indenters import Cylinder
 from ..physics.scene import Scene, Scene3D, check_positive
+from ..physics.viscoelastic import ViscoelasticFilm, film_of
 from ..result import ContactResult
 from .base import Method, check_grid_points, register
 from .fft3d import solve_fft3d
@@ -65,6 +65,18 @@ _SHIFT_RESIDUAL = 0.25  # averaged phase error <= this fraction of the shift dif
 # Measured amplitude (against tol 1e-5 solves, L - 2a = 6 ... 12 h): 0.5-0.6 at mu 0, 0.6-1.0 at
 # mu 2, 1.5 at mu 10; bounded by _IMAGE_AMPLITUDE * max(1, |mu|/10)
 _IMAGE_AMPLITUDE = 2.0
+_VISCO_EDGE_CELLS = 4  # viscoelastic film: cells across the edge structure |V| tau_i (_level_sizes)
+_VISCO_EDGE_SHARE = 0.25  # an unresolved term moves x_c and a by up to ~0.6 E_i/E_inf |V| tau_i
+# (measured, SLS E_1 = E_inf, paper's scene, V tau/h = 1.5e-3: x_c moved by 6e-4 a from 1024
+# to 131072 points, converging only once |V| tau spans ~4 cells); terms above this share of
+# tol are resolved, the others' weight x width / a is added to the error estimate
+
+
+def _unresolved_edges(edge_scales, a, dx):
+    """Bound of the error left by the Prony terms whose edge structure |V| tau_i spans fewer
+    than _VISCO_EDGE_CELLS cells: sum of E_i/E_inf |V| tau_i / a (see _VISCO_EDGE_SHARE)."""
+    return sum(weight * width / a for width, weight in edge_scales
+               if width < _VISCO_EDGE_CELLS * dx)
 # the locator's inner solves (plain Amontons contact): its a and x_c are only good to ~dx anyway
 _LOCATOR_RTOL = 1e-6
 _LOCATOR_ACCEPT = 1e-3
@@ -128,20 +140,29 @@ def _soft_window(sol):
     return 0.5 * (right - left), 0.5 * (right + left), [(left, right)]
 
 
-def _measure(sol):
+def _measure(sol, moment=False):
+    """a, x_c, d, p_max (and where), the fitted edges; with ``moment`` (a viscoelastic film) also
+    "m", the pressure's centroid (apex frame, in h): the deformation friction is (h/R) m."""
     a, c, edges = _soft_window(sol) if getattr(sol, "soft", False) else _contact_window(sol)
     pm, xm = peak(sol.grid.x, sol.pressure)
-    return {"a": a, "c": c, "d": float(sol.indentations[0]), "pmax": pm, "xmax": xm,
-            "edges": edges}
+    q = {"a": a, "c": c, "d": float(sol.indentations[0]), "pmax": pm, "xmax": xm,
+         "edges": edges}
+    if moment:
+        p = sol.pressure
+        q["m"] = float(p @ sol.grid.x) / max(float(np.sum(p)), 1e-300)
+    return q
 
 
 def _steps(q, r):
     """Signed relative changes of a, centre (over a), indentation, peak pressure from r to q
     (the components of ``_difference``)."""
     a = max(abs(q["a"]), 1e-300)
-    return np.array([(q["a"] - r["a"]) / a, (q["c"] - r["c"]) / a,
-                     (q["d"] - r["d"]) / max(abs(q["d"]), 1e-300),
-                     (q["pmax"] - r["pmax"]) / max(q["pmax"], 1e-300)])
+    steps = [(q["a"] - r["a"]) / a, (q["c"] - r["c"]) / a,
+             (q["d"] - r["d"]) / max(abs(q["d"]), 1e-300),
+             (q["pmax"] - r["pmax"]) / max(q["pmax"], 1e-300)]
+    if "m" in q and "m" in r:  # viscoelastic: the centroid (over a), i.e. mu_def
+        steps.append((q["m"] - r["m"]) / a)
+    return np.array(steps)
 
 
 def _difference(q, r):
@@ -153,7 +174,7 @@ def _average(q0, q1):
     """Mean of the measurements on a grid and on the grid shifted by half a cell.  The edge
     error is a zero-mean periodic function of the edge's position within its cell (times dx):
     averaging two offsets half a cell apart cancels its odd harmonics (3-5x smaller)."""
-    out = {k: 0.5 * (q0[k] + q1[k]) for k in ("a", "c", "d", "pmax", "xmax")}
+    out = {k: 0.5 * (q0[k] + q1[k]) for k in ("a", "c", "d", "pmax", "xmax", "m") if k in q0}
     out["edges"] = q0["edges"]
     return out
 
@@ -218,12 +239,19 @@ _MU_IMAGES_MEASURED = 10.0  # |mu| up to which _IMAGE_AMPLITUDE was measured
 _A_IMAGES_MEASURED = 8.0
 
 
-def _level_sizes(L, a, tol, grid_points, domain_length):
-    """The grid sizes of the refinement levels on the period L (in h)."""
+def _level_sizes(L, a, tol, grid_points, domain_length, edge_scales=()):
+    """The grid sizes of the refinement levels on the period L (in h).  ``edge_scales``
+    (viscoelastic film: (|V| tau_i, E_i/E_inf) per Prony term): a term whose edge structure
+    moves the contact by more than tol/10 (weight x width / a) has its width resolved by
+    _VISCO_EDGE_CELLS cells from the first level on, so that two levels which both miss it
+    cannot agree by chance."""
     if grid_points:
         return [grid_points // 2, grid_points]
     across = max(_FIRST_ACROSS, _EDGE_ERROR / tol)
     n1 = pow2_at_least(L / (2 * a / across), MIN_POINTS)
+    for width, weight in edge_scales:
+        if weight * width / a > _VISCO_EDGE_SHARE * tol:
+            n1 = max(n1, pow2_at_least(_VISCO_EDGE_CELLS * L / width, MIN_POINTS))
     if n1 > MAX_POINTS and domain_length is not None:
         raise InputError(
             f"domain_length {domain_length:.4g} h needs ~{n1:.1e} grid points to resolve "
@@ -253,7 +281,8 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     plans0 = planning_time()
     P = scene.P
     mu_contact = scene.mu if model == "exact" else 0.0
-    film = Film(poisson=scene.poisson)  # lengths in h: thickness 1
+    film = film_of(scene)  # lengths in h: thickness 1 (Film; ViscoelasticFilm when sliding)
+    visco = isinstance(film, ViscoelasticFilm)
     margin = film.domain_margin(tol)  # images ~ tol/100 x O(1)
     # residual (relative displacement / pressure / load) accepted from each contact solve:
     # far below tol, but not below what round-off allows for very wide contacts
@@ -349,7 +378,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         if not sol.active.all():
             break
         L0, n0 = 2.0 * L0, 2 * n0
-    q = _measure(sol)
+    q = _measure(sol, visco)
     image_amplitude = _IMAGE_AMPLITUDE * max(1.0, abs(mu_contact) / 10.0)
     if domain_length is not None:
         # a user-fixed period must hold the contact plus the decay length of its images
@@ -371,10 +400,12 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     guard = 4 * sol.grid.dx
     L = domain_length or (2 * q["a"] + margin + guard)
     center = q["c"] if domain_length is None else 0.0
-    check_images = abs(mu_contact) > _MU_IMAGES_MEASURED or q["a"] > _A_IMAGES_MEASURED
+    # (a viscoelastic film's relaxation tail: its images are measured too)
+    check_images = abs(mu_contact) > _MU_IMAGES_MEASURED or q["a"] > _A_IMAGES_MEASURED or visco
     domain_diff = 0.0
     for _attempt in range(_DOMAIN_ATTEMPTS):
-        sizes = _level_sizes(L, q["a"], tol, grid_points, domain_length)
+        sizes = _level_sizes(L, q["a"], tol, grid_points, domain_length,
+                             film.edge_scales() if visco else ())
         # 3. grid levels on the period L
         prev = qprev = None
         est = float("inf")
@@ -403,7 +434,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
                 ps[:-1] += cur.pressure[1:]
                 ps[-1] += cur.pressure[0]
                 ps *= 0.5
-                q0 = _measure(cur)
+                q0 = _measure(cur, visco)
                 if adaptive and not exponential and q0["edges"]:
                     # the first active set from cur's fitted edges (the midpoint beyond an
                     # edge has p > 0 but is mostly out of contact: one active-set step less)
@@ -420,7 +451,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
                 krylov += s_.krylov_iterations
                 outer += s_.iterations
             residual = max(cur.residual, shifted.residual)
-            q1 = _measure(shifted)
+            q1 = _measure(shifted, visco)
             qcur = _average(q0, q1)
             shift_diff = _difference(q0, q1)
             levels.append((n, qcur))
@@ -432,6 +463,8 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
                 diff = float(np.max(np.abs(step)))
                 image_error = image_amplitude * math.exp(-film.decay_rate * max(L - 2.0 * qcur["a"], 0.0))
                 disc = _discretisation_error(step, last_step, shift_diff)
+                if visco:
+                    disc += _unresolved_edges(film.edge_scales(), qcur["a"], g.dx)
                 est = disc + image_error
                 parts = {"level_difference": diff, "shift_difference": shift_diff,
                          "previous_difference": (float(np.max(np.abs(last_step)))
@@ -466,7 +499,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         fft_pairs += far.fft_pairs
         krylov += far.krylov_iterations
         outer += far.iterations
-        domain_diff = _difference(_measure(far), q0)
+        domain_diff = _difference(_measure(far, visco), q0)
         image_error = max(image_error, domain_diff)
         est = disc + image_error
         if domain_length is not None or domain_diff <= 0.25 * tol:
@@ -506,6 +539,9 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     }
     if not friction.is_amontons:
         info["friction_law_iterations"] = law_iterations[0]
+    if visco:  # the averaged centroid (the error estimate covers it: _steps)
+        info["pressure_centroid"] = q["m"]
+        info["tail_length"] = film.tail_length
     if c:
         info["interface_compliance"] = c
     if exponential:

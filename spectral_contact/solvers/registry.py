@@ -33,6 +33,10 @@ def solve_scene(scene: Scene, model: str, method: str, tol: float, grid_points=N
     """Solve ``scene`` (SI) with ``model`` by ``method``; ``domain_length`` in h."""
     if not isinstance(model, str) or model not in MODELS:
         raise InputError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
+    if getattr(scene, "prony", ()) and (model in ("hertz", "auto") or method != "fft"):
+        # issue 23: the viscoelastic film's symbol is in the FFT solver only
+        raise InputError(f"--prony (a viscoelastic film) needs --model exact or goodman and "
+                         f"--method fft; got --model {model}, --method {method}")
     if isinstance(scene, Scene3D):
         if method != "fft":
             raise InputError(f"method {method!r} is for a line indenter (plane strain); 3D "

@@ -1,0 +1,254 @@
+"""A viscoelastic (Prony series) incompressible film in steady sliding at speed V (issue 23).
+
+Material.  The film's Young's relaxation modulus is the Prony series
+
+    E(t) = E_inf + sum_i E_i exp(-t / tau_i),       E_inf > 0, E_i > 0, tau_i > 0,
+
+(the shear modulus G(t) = E(t)/3: nu = 1/2 at all times).  With the time convention exp(+i w t)
+of a harmonic strain, sigma = G*(w) eps with the complex modulus
+
+    G*(w) = G_inf + sum_i G_i (i w tau_i) / (1 + i w tau_i),   G_i = E_i / 3,
+
+relaxed G*(0) = G_inf, glassy G*(inf) = G_0 = G_inf + sum G_i; loss tangent Im G*/Re G* > 0
+for w > 0.
+
+Steady sliding: the frequency a material point sees.  The indenter slides toward +x at speed V
+(V < 0: toward -x) over a film fixed to its base; the package's frame moves with the indenter,
+x = X - V t (X the material coordinate).  A steady field of the indenter's frame is a sum of
+modes exp(+i k.x) (the package's Fourier convention: numpy's, ``physics.film``); at a fixed
+material point X a mode reads exp(i k.X) exp(-i k_x V t): the point sees the frequency
+
+    w(k) = -k_x V.
+
+Correspondence.  For an incompressible film bonded to a rigid base, a given surface traction
+field produces a stress field independent of G (the incompressible elasticity equations with
+traction and zero-displacement conditions are G-free in terms of stresses and G u), and the
+displacement field scales as 1/G.  For linear viscoelasticity each Fourier mode is harmonic in
+time at a material point, so its displacement is the elastic one with G replaced by G*(w(k)):
+in units of 1/G_inf every compliance symbol of ``Film`` is multiplied by
+
+    R(k) = G_inf / G*(-k_x V),
+
+and the base-traction transfer (stresses from tractions) is unchanged.  On the real-FFT half
+spectrum R(-k) = conj R(k), as a real operator needs.
+
+Sign check (one SLS term, G_inf/G* = (1 - i k_x l)/(1 - i k_x l_r), l = V tau, l_r = V tau_r,
+tau_r = tau G_0/G_inf the retardation time): the factor 1/(1 - i k l_r) is the Fourier transform
+of exp(x/l_r)/l_r for x < 0 only, so a load at x' sinks the surface behind it (x < x'), decaying
+over l_r: for V > 0 the trailing side (-x) recovers late, the material entering at the leading
+edge (+x) is stiffer (glassy), the pressure moves toward +x, and the pressure's horizontal force
+on the indenter (Int p df/dx) opposes the motion.  Tests check all three signs.
+
+Compressible films (nu < 1/2) with a Prony series are refused (``Scene``): with an elastic bulk
+modulus the symbol is not a scaling of the elastic one (the layer's transfer functions depend on
+nu(w)), which this film does not model.
+
+Units: ``speed`` in lengths of ``thickness`` per second (the core: h/s), ``tau`` in seconds;
+moduli in any one unit (``young`` and the Prony moduli together).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from .film import Film
+from .scene import check_prony
+
+__all__ = ["ViscoelasticFilm", "film_of", "parse_prony", "check_prony"]
+
+
+def parse_prony(text: str, option: str = "--prony") -> tuple:
+    """'E1,tau1[,E2,tau2,...]' -> ((E1, tau1), ...); InputError naming ``option`` otherwise."""
+    parts = [s.strip() for s in str(text).split(",")]
+    try:
+        values = [float(s) for s in parts]
+    except ValueError:
+        raise InputError(f"{option} must be numbers E1,tau1[,E2,tau2,...] (E_i [Pa] > 0, tau_i "
+                         f"[s] > 0); got {text!r:.60}") from None
+    if len(values) % 2 or not values:
+        raise InputError(f"{option} needs pairs E1,tau1[,E2,tau2,...] (an even count of numbers); "
+                         f"got {len(values)} in {text!r:.60}")
+    return check_prony(zip(values[::2], values[1::2]), option)
+
+
+@dataclass(frozen=True)
+class ViscoelasticFilm(Film):
+    """An incompressible Prony-series film in steady sliding (module docstring).
+
+    Parameters
+    ----------
+    thickness : float
+        h (the length unit of ``speed`` and of the wavenumbers' inverse).
+    young : float
+        E_inf, the relaxed Young's modulus (the unit of the compliances is 1/G_inf, G_inf =
+        E_inf/3: the elastic film's unit for E = E_inf).
+    prony : tuple of (E_i, tau_i)
+        Prony moduli (same unit as ``young``) and relaxation times [s].
+    speed : float
+        V [thickness units / s], signed: > 0 the indenter slides toward +x.
+
+    ``speed == 0`` or no terms: the symbols are those of the elastic film of modulus E_inf
+    (R = 1 exactly; the solvers then use ``Film`` itself, bit for bit).
+    """
+
+    young: float = 1.0
+    prony: tuple = ()
+    speed: float = 0.0
+
+    def __post_init__(self):
+        super().__post_init__()
+        if not self.incompressible:
+            raise InputError(f"--prony needs --poisson 0.5 (an incompressible film); got "
+                             f"poisson {self.poisson:g}")
+        object.__setattr__(self, "prony", check_prony(self.prony))
+
+    # --- the material ---------------------------------------------------------------------------
+    @property
+    def glassy_young(self) -> float:
+        """E_0 = E_inf + sum E_i."""
+        return self.young + sum(e for e, _ in self.prony)
+
+    def complex_modulus(self, omega):
+        """G*(omega) = [E_inf + sum E_i i w tau_i/(1 + i w tau_i)] / 3 (time factor exp(+i w t)),
+        in the unit of ``young``."""
+        w = np.asarray(omega, dtype=float)
+        E = np.full(w.shape, self.young, dtype=complex)
+        for e, tau in self.prony:
+            iwt = 1j * w * tau
+            E = E + e * iwt / (1.0 + iwt)
+        return E / 3.0
+
+    def loss_tangent(self, omega):
+        """tan delta = Im G* / Re G* at omega [rad/s]."""
+        G = self.complex_modulus(omega)
+        return G.imag / G.real
+
+    def peak_loss_tangent(self) -> tuple[float, float]:
+        """(max tan delta, its omega [rad/s]) over omega > 0 (a dense log scan refined by a
+        golden-section search)."""
+        taus = [t for _, t in self.prony] or [1.0]
+        w = np.logspace(math.log10(0.01 / max(taus)), math.log10(100.0 / min(taus)), 2001)
+        t = self.loss_tangent(w)
+        j = int(np.argmax(t))
+        lo, hi = math.log(w[max(j - 1, 0)]), math.log(w[min(j + 1, w.size - 1)])
+        g = 0.5 * (math.sqrt(5.0) - 1.0)
+        for _ in range(80):
+            a, b = hi - g * (hi - lo), lo + g * (hi - lo)
+            if self.loss_tangent(math.exp(a)) > self.loss_tangent(math.exp(b)):
+                hi = b
+            else:
+                lo = a
+        wm = math.exp(0.5 * (lo + hi))
+        return float(self.loss_tangent(wm)), wm
+
+    def retardation_times(self) -> list[float]:
+        """The retardation times: -1/s at the zeros s < 0 of G*(s/i) = G_inf + sum G_i s tau_i /
+        (1 + s tau_i), one between each pair of consecutive poles -1/tau_i and one in
+        (-1/tau_max, 0): the decay lengths of the film's memory are V times them.  The largest
+        is at most tau_max E_0/E_inf (equal for one term)."""
+        taus = sorted({t for _, t in self.prony})
+        poles = [-1.0 / t for t in taus]  # increasing: most negative first
+
+        def f(s):
+            return self.young + sum(e * s * t / (1.0 + s * t) for e, t in self.prony)
+
+        out = []
+        bounds = list(zip(poles[:-1], poles[1:])) + [(poles[-1], 0.0)] if poles else []
+        for lo, hi in bounds:
+            a, b = lo + 1e-15 * abs(lo), hi - (1e-15 * abs(hi) if hi else 0.0)
+            if hi == 0.0:
+                b = 0.0
+            for _ in range(200):  # f -> -inf at a pole's right, f(0) > 0; increasing between
+                m = 0.5 * (a + b)
+                if f(m) > 0.0:
+                    b = m
+                else:
+                    a = m
+                if b - a <= 1e-15 * abs(b):
+                    break
+            out.append(-1.0 / (0.5 * (a + b)))
+        return sorted(out)
+
+    # --- the symbols --------------------------------------------------------------------------
+    @property
+    def moving(self) -> bool:
+        """Whether the symbols differ from the elastic film's (V != 0 and terms present)."""
+        return self.speed != 0.0 and bool(self.prony)
+
+    def modulus_ratio(self, direction, kmag):
+        """R(k) = G_inf / G*(-k_x V) (1 where V = 0)."""
+        kx = np.asarray(kmag, dtype=float) * direction[0]
+        if not self.moving:
+            return np.ones_like(kx, dtype=complex)
+        return (self.young / 3.0) / self.complex_modulus(-kx * self.speed)
+
+    def surface_compliance(self, direction, kmag, mu: float = 0.0, slide=(1.0, 0.0)):
+        """The elastic film's H times R(k) (in units of 1/G_inf)."""
+        H = super().surface_compliance(direction, kmag, mu, slide)
+        return H * self.modulus_ratio(direction, kmag) if self.moving else H
+
+    def shear_compliance(self, direction, kmag, slide=(1.0, 0.0)):
+        H1 = super().shear_compliance(direction, kmag, slide)
+        return H1 * self.modulus_ratio(direction, kmag) if self.moving else H1
+
+    def surface_displacement_transfer(self, direction, kmag, p_hat, tau_hat):
+        """Every displacement scales with 1/G: the elastic transfer times R(k)."""
+        u, delta = super().surface_displacement_transfer(direction, kmag, p_hat, tau_hat)
+        if not self.moving:
+            return u, delta
+        R = self.modulus_ratio(direction, kmag)
+        return tuple(R * c for c in u), R * delta
+
+    # --- the new length scales ----------------------------------------------------------------
+    # decay_rate stays the elastic film's (the images' formula of solvers.fft): the tail's
+    # images are covered by domain_margin and then measured (solvers.fft, step 4)
+
+    @property
+    def tail_length(self) -> float:
+        """|V| times the largest retardation time: the decay length of the relaxation tail
+        behind the contact (0 when not moving)."""
+        return abs(self.speed) * max(self.retardation_times()) if self.moving else 0.0
+
+    def tail_amplitude(self) -> float:
+        """Relative amplitude of the relaxation tail behind the contact: c min(1, (2h/l)^2), c =
+        1 - E_inf/E_0 the relaxing part's weight, l = ``tail_length``.  A tail much longer than
+        the film is thick carries the elastic sinking smeared over l, whose first two moments
+        vanish on an incompressible film (H ~ k^2/3 at small k): its amplitude falls as
+        (h/l)^2 (for l >> h, the tail's residue H(-i/l)/l ~ 1/(3 l^3) over the contact's
+        1/l).  Used for the period's margin only; the images' effect is then measured
+        (``solvers.fft``)."""
+        if not self.moving:
+            return 0.0
+        c = 1.0 - self.young / self.glassy_young
+        return c * min(1.0, (2.0 * self.thickness / self.tail_length) ** 2)
+
+    def domain_margin(self, tol: float) -> float:
+        """The elastic margin plus the tail's: tail_length ln(100 A/tol), A =
+        ``tail_amplitude`` (the two decays add, the tail being the elastic sinking smeared
+        behind the load over tail_length)."""
+        m = super().domain_margin(tol)
+        if not self.moving:
+            return m
+        return m + self.tail_length * max(math.log(100.0 * self.tail_amplitude() / tol), 0.0)
+
+    def edge_scales(self) -> list[tuple[float, float]]:
+        """(|V| tau_i, E_i/E_inf) per term: the widths of the edge structure each term makes
+        and its weight."""
+        if not self.moving:
+            return []
+        return [(abs(self.speed) * t, e / self.young) for e, t in self.prony]
+
+
+def film_of(scene) -> Film:
+    """The film of a ``Scene``/``Scene3D`` in the core's units (thickness 1, speed in h/s):
+    ``Film`` when elastic or at rest (V = 0: the relaxed film, bit for bit the elastic solve
+    with E = E_inf), else ``ViscoelasticFilm``."""
+    prony = getattr(scene, "prony", ())
+    speed = getattr(scene, "speed", 0.0)
+    if not (prony and speed != 0.0):
+        return Film(poisson=scene.poisson)
+    return ViscoelasticFilm(poisson=scene.poisson, young=scene.young, prony=prony,
+                            speed=speed / scene.thickness)

@@ -1,0 +1,185 @@
+"""Viscoelastic (Prony series) film in steady sliding (issue 23): limits, an independent
+half-space reference, signs, mirror, equilibrium, --speed 0 bit for bit, CLI refusals."""
+import json
+import math
+
+import numpy as np
+import pytest
+
+from spectral_contact import solve
+from spectral_contact.cli.main import main
+from spectral_contact.errors import InputError
+from spectral_contact.numerics.fft import get_rfft
+from spectral_contact.physics.scene import Scene
+from spectral_contact.physics.viscoelastic import ViscoelasticFilm, film_of, parse_prony
+from spectral_contact.reference.sls_halfspace import sls_halfspace_contact
+
+E_INF = 2.2e6
+SLS = ((E_INF, 0.01),)  # E_1 = E_inf (E_0 = 2 E_inf), tau = 10 ms: tau_r = 20 ms
+TOL = 1e-3
+
+
+def _rel(r, q):
+    """Relative differences of a, x_c (over a), d, p_max between two results."""
+    a = q.half_width
+    return np.array([(r.half_width - a) / a, (r.center - q.center) / a,
+                     (r.indentation - q.indentation) / q.indentation,
+                     (r.max_pressure_Pa - q.max_pressure_Pa) / q.max_pressure_Pa])
+
+
+def test_material_functions():
+    f = ViscoelasticFilm(young=3.0, prony=((3.0, 0.5),), speed=1.0)
+    assert abs(f.complex_modulus(0.0) - 1.0) < 1e-15  # G_inf = E_inf / 3
+    assert abs(f.complex_modulus(1e12) - 2.0) < 1e-9   # G_0
+    # SLS: max tan delta = (G0 - Ginf) / (2 sqrt(G0 Ginf)) at w tau = sqrt(Ginf/G0)
+    t, w = f.peak_loss_tangent()
+    assert t == pytest.approx(1.0 / (2.0 * math.sqrt(2.0)), rel=1e-9)
+    assert w * 0.5 == pytest.approx(math.sqrt(0.5), rel=1e-6)
+    assert f.retardation_times() == pytest.approx([1.0], rel=1e-12)  # tau E_0/E_inf
+    two = ViscoelasticFilm(young=1.0, prony=((1.0, 0.1), (2.0, 10.0)), speed=1.0)
+    rt = two.retardation_times()
+    assert len(rt) == 2 and 0.1 < rt[0] < 10.0 < rt[1] <= 10.0 * 4.0
+    for t_ in rt:  # zeros of G*(s / i)
+        s = -1.0 / t_
+        assert abs(1.0 + sum(e * s * ta / (1 + s * ta) for e, ta in two.prony)) < 1e-9
+
+
+def test_speed_zero_is_the_elastic_solve_bit_for_bit():
+    el = solve(load=200.0, mu=1.0, tol=TOL)
+    for scene in (Scene(load=200.0, mu=1.0, speed=0.0, prony=SLS), Scene(load=200.0, mu=1.0, speed=0.0)):
+        r = solve(scene, tol=TOL)
+        for k in ("x", "pressure", "base_sigma_zz", "base_sigma_xz"):
+            assert np.array_equal(getattr(r, k), getattr(el, k)), k
+        assert (r.half_width, r.center, r.indentation, r.error_estimate) == \
+            (el.half_width, el.center, el.indentation, el.error_estimate)
+
+
+def test_limits_relaxed_and_glassy():
+    slow = solve(load=200.0, mu=1.0, speed=1e-7, prony=SLS, tol=TOL)
+    relaxed = solve(load=200.0, mu=1.0, young=E_INF, tol=TOL)
+    assert np.max(np.abs(_rel(slow, relaxed))) < slow.error_estimate + relaxed.error_estimate
+    fast = solve(load=200.0, mu=1.0, speed=1e5, prony=SLS, tol=TOL)
+    glassy = solve(load=200.0, mu=1.0, young=2 * E_INF, tol=TOL)
+    assert np.max(np.abs(_rel(fast, glassy))) < fast.error_estimate + glassy.error_estimate
+    # and in between it is neither: stiffer than relaxed, softer than glassy
+    mid = solve(load=200.0, mu=1.0, speed=0.1, prony=SLS, tol=TOL)
+    assert glassy.half_width < mid.half_width < relaxed.half_width
+
+
+@pytest.mark.parametrize("lr", [3e-3, 3e-2])
+def test_small_contact_against_sls_half_space(lr):
+    """a/h = 0.01 (relaxed Hertz): the film solver against the independent x-space collocation
+    of the SLS half-space (reference.sls_halfspace; Hunter's problem), l_r = V tau_r = 0.3 a
+    and 3 a: half-width, offset (over a) and mu_def within 0.5 %."""
+    P = 2 * math.pi * 1e-4
+    base = Scene(load=1.0, mu=0.0)
+    V = lr * base.thickness / 0.02  # tau_r = 0.02 s
+    s = Scene(load=P * base.stress_unit * base.length_unit, mu=0.0, speed=V, prony=SLS)
+    r = solve(s, tol=TOL)
+    ref = sls_halfspace_contact(P, 0.5, lr, n=700)
+    a = ref["a"]
+    assert abs(r.half_width - a) / a < 5e-3
+    assert abs(r.center - ref["c"]) / a < 5e-3
+    mu_ref = ref["centroid"] * s.thickness / s.radius
+    assert abs(r.deformation_friction - mu_ref) / mu_ref < 5e-3
+    assert r.center > 0.05 * a  # a real offset at these speeds (not a trivial agreement)
+
+
+def _sinking(r):
+    """The surface's sinking w on the result's grid, from its pressure and shear."""
+    film = film_of(r.scene)
+    from spectral_contact.numerics.grid import Grid
+
+    g = Grid.centered(r.grid_points, r.domain_length, 0.5 * (r.x[0] + r.x[-1]) + 0.5 * r.domain_length / r.grid_points)
+    assert np.allclose(g.x, r.x)
+    _, delta = film.surface_displacements(get_rfft(g.shape), g, r.pressure, (r.surface_shear,))
+    return delta
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_signs_and_mirror(sign):
+    r = solve(load=200.0, mu=0.5 * sign, speed=0.05 * sign, prony=SLS, tol=TOL)
+    el = solve(load=200.0, mu=0.5 * sign, young=E_INF, tol=TOL)
+    # the pressure moves toward the leading edge (beyond the friction's own shift)
+    assert sign * (r.center - el.center) > 0.05 * r.half_width
+    assert sign * (r.max_pressure_x - el.max_pressure_x) > 0.05 * r.half_width
+    # the deformation friction opposes the motion (signed like mu) and adds to Q/P
+    assert sign * r.deformation_friction > 0
+    assert r.Q_over_P == pytest.approx(r.mu + r.deformation_friction, rel=1e-12)
+    # the trailing side recovers late: half a width behind the contact the surface is sunk
+    # deeper (bulges less) than as far ahead of it, by more than on the elastic film
+    def asymmetry(res):
+        w = _sinking(res)
+        lo, hi = res.center - res.half_width, res.center + res.half_width
+        s_ = 0.5 * res.half_width
+        behind, ahead = (lo - s_, hi + s_) if sign > 0 else (hi + s_, lo - s_)
+        return np.interp(behind, res.x, w) - np.interp(ahead, res.x, w)
+    r0 = solve(load=200.0, mu=0.0, speed=0.05 * sign, prony=SLS, tol=TOL)
+    el0 = solve(load=200.0, mu=0.0, young=E_INF, tol=TOL)
+    assert abs(asymmetry(el0)) < 1e-3 * el0.indentation  # frictionless elastic: symmetric
+    assert asymmetry(r0) > 0.05 * r0.indentation
+    assert asymmetry(r) > asymmetry(el) + 0.05 * r.indentation
+    # equilibrium of the base stresses: Int sigma_zz(x, 0) = -P, Int sigma_xz(x, 0) = mu P
+    dx = r.x[1] - r.x[0]
+    P = r.pressure.sum() * dx
+    assert r.base_sigma_zz.sum() * dx == pytest.approx(-P, rel=1e-9)
+    assert r.base_sigma_xz.sum() * dx == pytest.approx(r.mu * P, rel=1e-9)
+    if sign < 0:  # mirror of the + case
+        m = solve(load=200.0, mu=0.5, speed=0.05, prony=SLS, tol=TOL)
+        tol = r.error_estimate + m.error_estimate
+        assert abs(r.half_width - m.half_width) / m.half_width < tol
+        assert abs(r.center + m.center) / m.half_width < tol
+        assert abs(r.indentation - m.indentation) / m.indentation < tol
+        assert abs(r.deformation_friction + m.deformation_friction) / m.deformation_friction < 1e-2
+        assert r.to_dict()["Q_over_P"] == pytest.approx(-m.to_dict()["Q_over_P"], rel=1e-3)
+
+
+def test_json_record():
+    r = solve(load=200.0, mu=1.0, speed=0.02, prony=SLS, tol=TOL)
+    d = r.to_dict()
+    assert d["speed_m_per_s"] == 0.02 and d["prony_terms"] == [[E_INF, 0.01]]
+    assert d["deformation_friction"] == r.deformation_friction > 0
+    assert d["Q_over_P"] == pytest.approx(1.0 + d["deformation_friction"], rel=1e-12)
+    # mu_def = (h/R) x the pressure's centroid, from the profile
+    c = np.sum(r.pressure * r.x) / np.sum(r.pressure)
+    assert d["deformation_friction"] == pytest.approx(c * 0.002 / 0.130, rel=1e-3)
+    assert "speed_m_per_s" not in solve(load=200.0, mu=1.0, tol=TOL).to_dict()
+
+
+def test_bad_prony_in_python():
+    for bad in ("1,2,3", "1,-2", "a,b", "", "1,0"):
+        with pytest.raises(InputError, match="--prony"):
+            parse_prony(bad)
+    with pytest.raises(InputError, match="--poisson 0.5"):
+        Scene(poisson=0.4, speed=1.0, prony=SLS)
+    with pytest.raises(InputError, match="same sign"):
+        Scene(mu=1.0, speed=-1.0, prony=SLS)
+    with pytest.raises(InputError, match="--model exact or goodman"):
+        solve(load=200.0, speed=1.0, prony=SLS, model="hertz")
+
+
+def _cli(capsys, *args):
+    code = main(["solve", *args])
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_cli(capsys):
+    for args in (["--speed", "1", "--prony", "1,2,3"], ["--speed", "1", "--prony", "1e6,-0.1"],
+                 ["--speed", "1", "--prony", "1e6,x"], ["--prony", "1e6,0.1"],
+                 ["--speed", "1", "--prony", "1e6,0.1", "--poisson", "0.4"]):
+        code, out, err = _cli(capsys, *args, "--tol", "1e-2")
+        assert code == 2, args
+        assert out == "" and len(err.strip().splitlines()) == 1, err
+        assert "--prony" in err or "--speed" in err
+    code, out, err = _cli(capsys, "--speed", "0.05", "--prony", "2.2e6,0.01", "--mu", "0.5",
+                          "--tol", "1e-3", "--json")
+    assert code == 0, err
+    rec = json.loads(out)
+    assert rec["deformation_friction"] > 0 and rec["speed_m_per_s"] == 0.05
+    # --speed 0 (no Prony terms): the elastic record, number for number
+    a = json.loads(_cli(capsys, "--speed", "0", "--tol", "1e-3", "--json")[1])
+    b = json.loads(_cli(capsys, "--tol", "1e-3", "--json")[1])
+    for k in ("wall_time_s", "plan_time_s"):
+        a.pop(k), b.pop(k)
+    assert a == b
