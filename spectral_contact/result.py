@@ -591,6 +591,11 @@ class ContactResult3D:
             "wall_time_s": float(self.wall_time_s),
             "plan_time_s": float(self.plan_time_s),
         })
+        if getattr(s, "viscoelastic", False):  # issue 23: as the line's record
+            mu_def = float(self.info.get("deformation_friction", 0.0))
+            out["Q_over_P"] += mu_def
+            out |= {"speed_m_per_s": float(s.speed), "prony_terms": [list(t) for t in s.prony],
+                    "deformation_friction": mu_def}
         return out
 
     def maps(self) -> dict:

@@ -183,3 +183,48 @@ def test_cli(capsys):
     for k in ("wall_time_s", "plan_time_s"):
         a.pop(k), b.pop(k)
     assert a == b
+
+
+# --- surfaces (3D: the sphere, the symbol at omega = -k_x V) ---------------------------------
+def _sphere(**kw):
+    return solve(indenter="sphere", force=1.0, tol=1e-2, **kw)
+
+
+def test_sphere_speed_zero_bit_for_bit_and_limits():
+    el = _sphere(mu=0.5)
+    r = _sphere(mu=0.5, speed=0.0, prony=SLS)
+    for k in ("pressure", "base_sigma_zz", "base_sigma_xz", "base_sigma_yz"):
+        assert np.array_equal(getattr(r, k), getattr(el, k)), k
+    slow = _sphere(mu=0.5, speed=1e-7, prony=SLS)
+    fast = _sphere(mu=0.5, speed=1e5, prony=SLS)
+    glassy = _sphere(mu=0.5, young=2 * E_INF)
+    for v, e in ((slow, el), (fast, glassy)):
+        tol = v.error_estimate + e.error_estimate
+        assert abs(v.contact_radius - e.contact_radius) / e.contact_radius < tol
+        assert abs(v.indentation - e.indentation) / e.indentation < tol
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_sphere_signs_mirror_equilibrium(sign):
+    r = _sphere(mu=0.0, speed=0.1 * sign, prony=SLS)
+    d = r.summary()
+    q = r.measures
+    # the pressure and the contact move toward the leading edge; mu_def opposes the motion
+    assert sign * q["xc"] > 0.05 * r.contact_radius
+    assert sign * (q["x_max"] + q["x_min"]) > 0
+    assert sign * d["deformation_friction"] > 1e-3
+    assert d["Q_over_P"] == pytest.approx(d["deformation_friction"], rel=1e-12)
+    # mu_def = (h/R) x the centroid for the sphere (f = r^2 / 2R)
+    assert d["deformation_friction"] == pytest.approx(q["xc"] * 0.002 / 0.130, rel=1e-9)
+    # the base carries the load
+    cell = np.prod(np.asarray(r.domain_length) / np.asarray(r.grid_points))
+    P = r.pressure.sum() * cell
+    assert r.base_sigma_zz.sum() * cell == pytest.approx(-P, rel=1e-9)
+    assert abs(r.base_sigma_xz.sum() * cell) < 1e-9 * P
+    if sign < 0:
+        m = _sphere(mu=0.0, speed=0.1, prony=SLS)
+        tol = r.error_estimate + m.error_estimate
+        assert abs(r.contact_radius - m.contact_radius) / m.contact_radius < tol
+        assert abs(q["xc"] + m.measures["xc"]) / m.contact_radius < tol
+        assert d["deformation_friction"] == pytest.approx(-m.summary()["deformation_friction"],
+                                                          rel=5e-2)

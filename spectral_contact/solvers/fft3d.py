@@ -31,6 +31,7 @@ Memory is estimated before any allocation; a scene that would not fit is refused
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import time
@@ -46,8 +47,12 @@ from ..numerics.measure2d import measure_contact_2d
 from ..physics.film import Film
 from ..physics.friction import ShearLaw
 from ..physics.scene import Scene3D, check_positive
+from ..physics.viscoelastic import ViscoelasticFilm, film_of
 from ..result import ContactResult3D
 from .base import check_grid_points
+
+_VISCO_EDGE_CELLS = 4  # as solvers.fft (issue 23)
+_VISCO_EDGE_SHARE = 0.25
 
 __all__ = ["solve_fft3d", "MIN_POINTS_3D", "MAX_POINTS_3D", "memory_needed", "default_tol"]
 
@@ -150,7 +155,10 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     t0 = time.perf_counter()
     plans0 = planning_time()
     grid_points, domain_length = _check_fixed(grid_points, domain_length)
-    film = Film(poisson=scene.poisson)  # issue 14: any nu (nu = 1/2: the incompressible path)
+    # issue 14: any nu (nu = 1/2: the incompressible path); issue 23: a viscoelastic film in
+    # steady sliding (its relaxation tail lengthens the period along x only)
+    film = film_of(scene)
+    visco = isinstance(film, ViscoelasticFilm)
     P = scene.P
     mu_contact = scene.mu if model == "exact" else 0.0
     ind = scene.indenter_object()
@@ -163,6 +171,12 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     c = scene.interface
 
     def contact(grid, p_init=None):
+        film_ = film
+        if visco:  # the k_x = 0 modes: R averaged over their band (ViscoelasticFilm.kx_cell)
+            film_ = dataclasses.replace(film, kx_cell=math.pi / grid.lengths[0])
+        return _contact(grid, film_, p_init)
+
+    def _contact(grid, film, p_init=None):
         if not with_law and c == 0.0:
             return solve_contact(grid, mu_contact, [ind], film=film, p_init=p_init, accept=accept)
         s_, _, _ = solve_contact_law(grid, law if with_law else ShearLaw("amontons", mu=mu_contact),
@@ -215,13 +229,27 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
                 f"({width_x:.3g} x {width_y:.3g} h) plus {free:.3g} h for its images to decay "
                 f"below tol/2: at least ({need[0]:.4g}, {need[1]:.4g}) h, or leave it automatic")
     guard = 4.0 * max(sol.grid.spacing)
-    L = domain_length or (width_x + margin + guard, width_y + margin + guard)
+    margin_y = Film.domain_margin(film, tol) if visco else margin  # the tail is along x
+    L = domain_length or (width_x + margin + guard, width_y + margin_y + guard)
     center = (0.5 * (q["x_max"] + q["x_min"]), 0.0) if domain_length is None else (0.0, 0.0)
     if grid_points:
         levels = [tuple(n // 2 for n in grid_points), grid_points]
     else:
         d1 = min(width_x, width_y) / _FIRST_ACROSS
-        n1 = tuple(pow2_at_least(Li / d1, MIN_POINTS_3D) for Li in L)
+        dx1 = d1
+        radius = 0.25 * (width_x + width_y)
+        for width, weight in (film.edge_scales() if visco else ()):
+            # as in 2D (solvers.fft._level_sizes): resolve the edge structure |V| tau_i (along
+            # x, the sliding direction) of a term that moves the contact by more than a share
+            # of tol
+            if weight * width / radius > _VISCO_EDGE_SHARE * tol:
+                dx1 = min(dx1, width / _VISCO_EDGE_CELLS)
+        n1 = (pow2_at_least(L[0] / dx1, MIN_POINTS_3D), pow2_at_least(L[1] / d1, MIN_POINTS_3D))
+        if dx1 < d1 and n1[0] > MAX_POINTS_3D:
+            raise InputError(
+                f"the viscoelastic film's edge structure (|V| tau down to "
+                f"{dx1 * _VISCO_EDGE_CELLS:.2g} h) needs ~{L[0] / dx1:.2g} points along x at tol "
+                f"{tol:g} (> {MAX_POINTS_3D}): raise --tol, or change --speed")
         levels = [n1]
         while max(levels[-1]) < MAX_POINTS_3D:
             levels.append(tuple(2 * n for n in levels[-1]))
@@ -243,6 +271,10 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
         history.append((shape, qcur))
         if qprev is not None:
             est = _difference(qcur, qprev, ind.singular_peak)
+            if visco:  # terms whose edge structure spans < _VISCO_EDGE_CELLS cells
+                radius = math.sqrt(qcur["area"] / math.pi)
+                est += sum(w * ell / radius for ell, w in film.edge_scales()
+                           if ell < _VISCO_EDGE_CELLS * g.spacing[0])
             extent_est = _extent_difference(qcur, qprev)
             if grid_points or est <= tol:
                 break
@@ -260,9 +292,17 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
         shear = (scene.mu * p, np.zeros_like(p))
     else:  # exact: the law's shear of the coupled solve; goodman: the law on the frictionless p
         shear = (sol.shear if with_law else law.shear(p), np.zeros_like(p))
+    if visco:  # the final grid's film (its k_x = 0 band: the surface displacements)
+        film = dataclasses.replace(film, kx_cell=math.pi / sol.grid.lengths[0])
     szz, (sxz, syz) = film.base_stresses(fft, sol.grid, -p, shear)
     (ux, uy), delta = film.surface_displacements(fft, sol.grid, p, shear)
     counters["transforms"] += 5
+    if getattr(scene, "viscoelastic", False):  # mu_def = Int p df/dx / P, df/dx = (h/2R) d f_core / d x_core (central differences,
+        # exact for quadratic heights), over the contact nodes
+        f = np.asarray(ind.height(sol.grid), dtype=float)
+        dfdx = (np.roll(f, -1, axis=0) - np.roll(f, 1, axis=0)) / (2.0 * sol.grid.spacing[0])
+        on = p > 0
+        mu_def = float(np.sum(p[on] * dfdx[on]) / np.sum(p[on])) * scene.thickness / (2.0 * scene.radius)
     total = time.perf_counter() - t0
     plan_time = planning_time() - plans0
     info = {
@@ -272,6 +312,8 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
         "domain_margin": margin,
         "load_on_grid": q["load"],
         "extent_error_estimate": extent_est,
+        **({"deformation_friction": mu_def + 0.0} if getattr(scene, "viscoelastic", False) else {}),
+        **({"tail_length": film.tail_length} if visco else {}),
         "extent_note": "contact x and y extents are envelopes of edges fitted along grid lines "
                        "(a few hundredths of a cell); not controlled by tol: their level "
                        "difference is extent_error_estimate",
