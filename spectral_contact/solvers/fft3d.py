@@ -297,7 +297,8 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     szz, (sxz, syz) = film.base_stresses(fft, sol.grid, -p, shear)
     (ux, uy), delta = film.surface_displacements(fft, sol.grid, p, shear)
     counters["transforms"] += 5
-    if getattr(scene, "viscoelastic", False):  # mu_def = Int p df/dx / P, df/dx = (h/2R) d f_core / d x_core (central differences,
+    if getattr(scene, "viscoelastic", False):
+        # mu_def = Int p df/dx / P, df/dx = (h/2R) d f_core / d x_core (central differences,
         # exact for quadratic heights), over the contact nodes
         f = np.asarray(ind.height(sol.grid), dtype=float)
         dfdx = (np.roll(f, -1, axis=0) - np.roll(f, 1, axis=0)) / (2.0 * sol.grid.spacing[0])
