@@ -139,6 +139,10 @@ def _summary_text(r, view=None) -> str:
                      f"{s['interface_length_m']:g} m; {r.info.get('width_definition', '')}")
     if "auto_reason" in r.info:
         lines.append(f"  auto: {r.info['auto_reason']}")
+    if "speed_m_per_s" in s:  # issue 23: a viscoelastic film
+        lines.append(f"  viscoelastic film        V = {s['speed_m_per_s']:g} m/s, {len(s['prony_terms'])} "
+                     f"Prony term(s); mu_def = {s['deformation_friction']:.5g}, Q/P = mu + mu_def = "
+                     f"{s['Q_over_P']:.5g}")
     grid = (f"{s['grid_points']} Nystrom nodes, profiles over {s['domain_length_m'] * mm:.2f} mm"
             if s["method"] == "abel" else
             f"grid {s['grid_points']} points over {s['domain_length_m'] * mm:.2f} mm")

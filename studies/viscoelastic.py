@@ -1,0 +1,278 @@
+"""A viscoelastic (Prony series) film in steady sliding (issue 23).
+
+    python -m studies.viscoelastic [--quick] [--out DIR]
+
+Five parts, each a CSV (+ .meta.json) in the output folder (default out/viscoelastic):
+
+speed      mu_def, half-width a, x0 and Q/P against V over 8 decades (1e-6 ... 1e2 m/s) for
+           the paper's scene (P_L = 200 N/m, mu = 2) and frictionless lines of Hertz half-width
+           a_H/h = 0.1, 0.3, 1, 3, on a standard linear solid E_1 = E_inf, tau = 10 ms (peak
+           loss tangent 0.354), tol 1e-3; the cost (FFT pairs, grid points) against the elastic
+           solve of the same scene and tol; a few sphere points (3D, tol 1e-2).
+estimate   the error estimate against the true error (a much finer, twice longer fixed grid:
+           2^21 points over twice the period) over V, tol 1e-3 and 1e-4, mu 0 and 1.
+reference  small contacts (a_H/h = 0.01): the film solver against the independent x-space
+           collocation of the SLS half-space (reference.sls_halfspace: Hunter's problem; his
+           closed form was not found, this is a numerical solution of the same problem).
+claim      the paper's "purely elastic" film: a standard linear solid whose peak loss tangent is
+           0.1 (no published Prony series of Sylgard 184 was retrieved here: arXiv 2402.07555
+           fits one, its coefficients were not accessible), against the elastic film E_inf =
+           2.2 MPa on the paper's scene: the changes of a, x0 (over a), Q/P and the base
+           stresses (max |difference| / max |elastic|) against V tau / h, the first V tau / h
+           where one exceeds 1 %, and the speed that is for loss peaks at 1 Hz ... 1 kHz,
+           against the paper's 0.2 - 2 mm/s.
+figure     viscoelastic.png: mu_def and a against V; the claim's changes; the base stresses
+           and their MEMS view at one speed.
+"""
+from __future__ import annotations
+
+import math
+import sys
+import time
+
+import numpy as np
+
+from spectral_contact import solve
+from spectral_contact.errors import ConvergenceError, InputError
+from spectral_contact.physics.scene import Scene
+from spectral_contact.reference.sls_halfspace import sls_halfspace_contact
+from spectral_contact.solvers.fft import solve_fft
+
+from ._common import parse, progress, table
+
+E_INF = 2.2e6
+TAU = 0.01
+SLS = ((E_INF, TAU),)  # E_1 = E_inf: E_0 = 2 E_inf, tau_r = 20 ms
+FILM = {"young": E_INF, "thickness": 0.002, "radius": 0.130}
+
+
+def load_for(s: float) -> float:
+    """P_L [N/m] whose Hertz half-space half-width is s film thicknesses (P = 2 pi s^2)."""
+    base = Scene(**FILM)
+    return 2.0 * math.pi * s * s * base.stress_unit * base.length_unit
+
+
+def sls_for_peak_loss(tan_max: float) -> float:
+    """E_1 / E_inf of the SLS whose peak loss tangent is tan_max: (r - 1)/(2 sqrt r) = tan_max,
+    r = E_0/E_inf; the peak sits at omega tau = sqrt(E_inf/E_0)."""
+    sr = tan_max + math.sqrt(tan_max * tan_max + 1.0)
+    return sr * sr - 1.0
+
+
+def _row(r, el=None) -> dict:
+    d = r.to_dict()
+    out = {"half_width_m": d["half_width_m"], "x0_m": d["x0_m"],
+           "deformation_friction": d.get("deformation_friction", 0.0), "Q_over_P": d["Q_over_P"],
+           "error_estimate": d["error_estimate"], "grid_points": d["grid_points"],
+           "fft_pairs": r.counters["transforms"]}
+    if el is not None:
+        out["a_over_a_elastic"] = d["half_width_m"] / el.half_width_m
+        out["fft_pairs_ratio"] = r.counters["transforms"] / el.counters["transforms"]
+        out["grid_points_ratio"] = d["grid_points"] / el.grid_points
+    return out
+
+
+def part_speed(quick: bool, out, t0) -> list[dict]:
+    speeds = np.logspace(-6, 2, 5 if quick else 17)
+    scenes = [("paper", 200.0, 2.0)] + [(f"aH/h={s:g}", load_for(s), 0.0)
+                                        for s in ((0.3, 3.0) if quick else (0.1, 0.3, 1.0, 3.0))]
+    rows = []
+    n = len(speeds) * len(scenes)
+    for name, load, mu in scenes:
+        el = solve(load=load, mu=mu, tol=1e-3, **FILM)
+        for V in speeds:
+            row = {"scene": name, "load_N_per_m": load, "mu": mu, "speed_m_per_s": float(V),
+                   "V_tau_over_h": V * TAU / FILM["thickness"], "status": "ok"}
+            t = time.perf_counter()
+            try:
+                r = solve(load=load, mu=mu, speed=float(V), prony=SLS, tol=1e-3, **FILM)
+                row |= _row(r, el)
+            except (InputError, ConvergenceError) as exc:  # refused or not converged: say so
+                row |= {k: float("nan") for k in _row(el, el)}
+                row["status"] = type(exc).__name__ + ": " + str(exc).splitlines()[0][:80]
+            row["time_s"] = time.perf_counter() - t
+            rows.append(row)
+            progress(len(rows), n, f"{name} V={V:.1e}", t0)
+    table(rows, out / "viscoelastic_speed.csv",
+          "Viscoelastic line (SLS E1 = E_inf, tau = 10 ms): mu_def, a, x0, Q/P against V; cost "
+          "against the elastic (E_inf) solve at tol 1e-3")
+    sph = []
+    for V in ((1e-4, 0.1) if quick else (1e-4, 1e-2, 0.03, 0.1, 0.3, 1.0, 10.0)):
+        r = solve(indenter="sphere", force=1.0, mu=0.0, speed=V, prony=SLS, tol=1e-2, **FILM)
+        d = r.summary()
+        sph.append({"speed_m_per_s": V, "contact_radius_m": d["contact_radius_m"],
+                    "pressure_centroid_x_m": d["pressure_centroid_x_m"],
+                    "deformation_friction": d["deformation_friction"],
+                    "error_estimate": d["error_estimate"],
+                    "grid_x": d["grid_points"][0], "grid_y": d["grid_points"][1],
+                    "fft_pairs": r.counters["transforms"]})
+    table(sph, out / "viscoelastic_sphere.csv",
+          "Viscoelastic sphere (F = 1 N, mu = 0, SLS E1 = E_inf, tau = 10 ms), tol 1e-2")
+    return rows
+
+
+def part_estimate(quick: bool, out, t0) -> list[dict]:
+    speeds = (1e-4, 1e-2, 1.0) if quick else (1e-6, 1e-5, 1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2,
+                                              0.1, 0.3, 1.0, 10.0)
+    tols = (1e-3,) if quick else (1e-3, 1e-4)
+    mus = (0.0,) if quick else (0.0, 1.0)
+    rows = []
+    n = len(speeds) * len(tols) * len(mus)
+    nref = 2**18 if quick else 2**21
+    for tol in tols:
+        for mu in mus:
+            for V in speeds:
+                s = Scene(load=200.0, mu=mu, speed=V, prony=SLS, **FILM)
+                r = solve_fft(s, tol=tol)
+                ref = solve_fft(s, tol=tol, grid_points=nref, domain_length=2 * r.domain_length)
+                a = ref.half_width
+                errs = [abs(r.half_width - a) / a, abs(r.center - ref.center) / a,
+                        abs(r.indentation - ref.indentation) / ref.indentation,
+                        abs(r.max_pressure - ref.max_pressure) / ref.max_pressure,
+                        abs(r.info["pressure_centroid"] - ref.info["pressure_centroid"]) / a]
+                err = max(errs)
+                rows.append({"tol": tol, "mu": mu, "speed_m_per_s": V,
+                             "V_tau_over_h": V * TAU / FILM["thickness"],
+                             "error_estimate": r.error_estimate, "true_error": err,
+                             "ratio": err / r.error_estimate, "bounded": bool(err <= r.error_estimate),
+                             "reference_estimate": ref.error_estimate,
+                             "grid_points": r.grid_points, "period_h": r.domain_length})
+                progress(len(rows), n, f"tol {tol:g} mu {mu:g} V={V:.0e}", t0)
+    table(rows, out / "viscoelastic_estimate.csv",
+          f"Error estimate against the true error (reference: {nref} points over twice the "
+          f"period), paper's load, SLS E1 = E_inf, tau = 10 ms")
+    return rows
+
+
+def part_reference(quick: bool, out, t0) -> list[dict]:
+    P = 2.0 * math.pi * 1e-4  # a_H/h = 0.01
+    base = Scene(**FILM)
+    rows = []
+    lrs = (3e-3, 3e-2) if quick else (1e-3, 3e-3, 1e-2, 3e-2)
+    tol = 1e-3 if quick else 1e-4
+    for lr in lrs:
+        V = lr * FILM["thickness"] / (2.0 * TAU)  # tau_r = 2 tau
+        s = Scene(load=P * base.stress_unit * base.length_unit, mu=0.0, speed=V, prony=SLS, **FILM)
+        r = solve(s, tol=tol)
+        o = sls_halfspace_contact(P, 0.5, lr, n=700 if quick else 1500)
+        a = o["a"]
+        mu_ref = o["centroid"] * FILM["thickness"] / FILM["radius"]
+        rows.append({"l_r_over_a": lr / a, "speed_m_per_s": V, "a_fft_h": r.half_width,
+                     "a_ref_h": a, "x_c_fft_h": r.center, "x_c_ref_h": o["c"],
+                     "mu_def_fft": r.deformation_friction, "mu_def_ref": mu_ref,
+                     "da_over_a": (r.half_width - a) / a, "dxc_over_a": (r.center - o["c"]) / a,
+                     "dmu_over_mu": (r.deformation_friction - mu_ref) / mu_ref,
+                     "ref_dx_over_a": o["dx"] / a, "error_estimate": r.error_estimate})
+        progress(len(rows), len(lrs), f"reference l_r = {lr:g} h", t0)
+    table(rows, out / "viscoelastic_reference.csv",
+          f"a_H/h = 0.01 on the film (fft, tol {tol:g}) against the SLS half-space by x-space "
+          f"collocation (E_0 = 2 E_inf), lengths in h")
+    return rows
+
+
+def _changes(r, el) -> dict:
+    a = el.half_width
+    szz = np.interp(el.x, r.x, r.base_sigma_zz, period=r.domain_length)
+    sxz = np.interp(el.x, r.x, r.base_sigma_xz, period=r.domain_length)
+    return {"d_a": abs(r.half_width / a - 1.0), "d_x0": abs(r.x0 - el.x0) / a,
+            # Q/P = mu + mu_def on both films (the elastic record's Q_over_P is mu alone; its
+            # geometric term (h/R) x_p is ContactResult.deformation_friction)
+            "d_Q_over_P": abs(r.Q_over_P / (el.friction_ratio + el.deformation_friction) - 1.0),
+            "d_base_zz": float(np.max(np.abs(szz - el.base_sigma_zz)) / np.max(np.abs(el.base_sigma_zz))),
+            "d_base_xz": float(np.max(np.abs(sxz - el.base_sigma_xz)) / np.max(np.abs(el.base_sigma_xz)))}
+
+
+def part_claim(quick: bool, out, t0):
+    w = sls_for_peak_loss(0.1)
+    tau = 1.0  # s: results depend on V tau / h only
+    el = solve(load=200.0, mu=2.0, tol=1e-4, **FILM)
+    ells = np.logspace(-5, 1, 7 if quick else 25)
+    rows = []
+    for ell in ells:
+        V = ell * FILM["thickness"] / tau
+        r = solve(load=200.0, mu=2.0, speed=float(V), prony=((w * E_INF, tau),), tol=1e-4, **FILM)
+        ch = _changes(r, el)
+        rows.append({"V_tau_over_h": float(ell), **ch, "max_change": max(ch.values()),
+                     "deformation_friction": r.deformation_friction,
+                     "error_estimate": r.error_estimate})
+        progress(len(rows), len(ells), f"claim V tau/h = {ell:.1e}", t0)
+    table(rows, out / "viscoelastic_claim.csv",
+          f"Paper's scene (P_L 200 N/m, mu 2): SLS with peak loss tangent 0.1 (E1 = {w:.4f} E_inf)"
+          f" against the elastic E_inf film: relative changes against V tau / h")
+    # the first V tau/h where the largest change exceeds 1 % (log interpolation)
+    m = np.array([r_["max_change"] for r_ in rows])
+    k = int(np.argmax(m > 0.01)) if np.any(m > 0.01) else None
+    ell1 = None
+    if k:
+        x0_, x1_ = math.log(ells[k - 1]), math.log(ells[k])
+        y0_, y1_ = math.log(m[k - 1]), math.log(m[k])
+        ell1 = math.exp(x0_ + (math.log(0.01) - y0_) * (x1_ - x0_) / (y1_ - y0_))
+    speeds = []
+    if ell1 is not None:
+        for f_peak in (1.0, 10.0, 100.0, 1000.0):
+            # SLS peak at omega tau = sqrt(E_inf/E_0): tau = 1/(2 pi f sqrt(1 + w))
+            tau_p = 1.0 / (2.0 * math.pi * f_peak * math.sqrt(1.0 + w))
+            speeds.append({"loss_peak_Hz": f_peak, "tau_s": tau_p,
+                           "V_tau_over_h_at_1pct": ell1,
+                           "V_1pct_m_per_s": ell1 * FILM["thickness"] / tau_p,
+                           "paper_V_max_over_V_1pct": 2e-3 / (ell1 * FILM["thickness"] / tau_p)})
+        table(speeds, out / "viscoelastic_claim_speeds.csv",
+              "The speed above which a, x0, Q/P or the base stresses change by > 1 % (SLS, peak "
+              "loss tangent 0.1 at loss_peak_Hz), against the paper's V = 0.2 - 2 mm/s")
+    return rows, speeds
+
+
+def figure(speed_rows, claim_rows, out):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from spectral_contact.instruments.mems_view import sensor
+
+    fig, ax = plt.subplots(2, 2, figsize=(11, 8))
+    for name in dict.fromkeys(r["scene"] for r in speed_rows):
+        rr = [r for r in speed_rows if r["scene"] == name]
+        V = [r["speed_m_per_s"] for r in rr]
+        ax[0, 0].loglog(V, [max(r["deformation_friction"], 1e-12) for r in rr], "o-", ms=3, label=name)
+        ax[0, 1].semilogx(V, [r["a_over_a_elastic"] for r in rr], "o-", ms=3, label=name)
+    ax[0, 0].set(xlabel="V [m/s]", ylabel="mu_def", title="deformation friction (SLS, tau 10 ms)")
+    ax[0, 1].set(xlabel="V [m/s]", ylabel="a / a(E_inf)", title="half-width")
+    ax[0, 0].legend(fontsize=7)
+    ells = [r["V_tau_over_h"] for r in claim_rows]
+    for k in ("d_a", "d_x0", "d_Q_over_P", "d_base_zz", "d_base_xz"):
+        ax[1, 0].loglog(ells, [max(r[k], 1e-9) for r in claim_rows], "o-", ms=3, label=k)
+    ax[1, 0].axhline(0.01, color="k", lw=0.8, ls="--")
+    ax[1, 0].set(xlabel="V tau / h", ylabel="relative change", title="peak tan delta 0.1 vs elastic")
+    ax[1, 0].legend(fontsize=7)
+    r = solve(load=200.0, mu=2.0, speed=0.05, prony=SLS, tol=1e-3, **FILM)
+    el = solve(load=200.0, mu=2.0, tol=1e-3, **FILM)
+    for res, lab, ls in ((el, "elastic E_inf", "--"), (r, "SLS, V = 5 cm/s", "-")):
+        v = sensor(res)
+        xm = res.x_m * 1e3
+        ax[1, 1].plot(xm, -res.base_sigma_zz_Pa / 1e3, ls, color="C0", label=f"-sigma_zz(0) {lab}")
+        ax[1, 1].plot(xm, res.base_sigma_xz_Pa / 1e3, ls, color="C1", label=f"sigma_xz(0) {lab}")
+        prof = v.profiles()
+        ax[1, 1].plot(np.asarray(prof["x_m"]) * 1e3, np.asarray(prof["S_zz_Pa"]) / 1e3, ls,
+                      color="C2", lw=0.8, label=f"MEMS S_zz {lab}")
+    ax[1, 1].set(xlim=(-10, 10), xlabel="x [mm] from the apex (sliding toward +x)", ylabel="kPa",
+                 title="base stresses and MEMS view, paper's scene")
+    ax[1, 1].legend(fontsize=6)
+    fig.tight_layout()
+    fig.savefig(out / "viscoelastic.png", dpi=110)
+    print(f"(written {out / 'viscoelastic.png'})")
+
+
+def main(argv=None) -> int:
+    args, out = parse(argv, __doc__.splitlines()[0], "out/viscoelastic")
+    t0 = time.perf_counter()
+    speed_rows = part_speed(args.quick, out, t0)
+    part_reference(args.quick, out, t0)
+    claim_rows, _ = part_claim(args.quick, out, t0)
+    figure(speed_rows, claim_rows, out)
+    part_estimate(args.quick, out, t0)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
