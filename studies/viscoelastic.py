@@ -2,13 +2,14 @@
 
     python -m studies.viscoelastic [--quick] [--out DIR]
 
-Five parts, each a CSV (+ .meta.json) in the output folder (default out/viscoelastic):
+Parts (``--parts``), each a CSV (+ .meta.json) in the output folder (default out/viscoelastic):
 
 speed      mu_def, half-width a, x0 and Q/P against V over 8 decades (1e-6 ... 1e2 m/s) for
            the paper's scene (P_L = 200 N/m, mu = 2) and frictionless lines of Hertz half-width
            a_H/h = 0.1, 0.3, 1, 3, on a standard linear solid E_1 = E_inf, tau = 10 ms (peak
            loss tangent 0.354), tol 1e-3; the cost (FFT pairs, grid points) against the elastic
-           solve of the same scene and tol; a few sphere points (3D, tol 1e-2).
+           solve of the same scene and tol.
+sphere     the sphere (3D, F = 1 N, mu = 0, tol 1e-2) at a few speeds.
 estimate   the error estimate against the true error (a much finer, twice longer fixed grid:
            2^21 points over twice the period) over V, tol 1e-3 and 1e-4, mu 0 and 1.
 reference  small contacts (a_H/h = 0.01): the film solver against the independent x-space
@@ -96,8 +97,12 @@ def part_speed(quick: bool, out, t0) -> list[dict]:
     table(rows, out / "viscoelastic_speed.csv",
           "Viscoelastic line (SLS E1 = E_inf, tau = 10 ms): mu_def, a, x0, Q/P against V; cost "
           "against the elastic (E_inf) solve at tol 1e-3")
+    return rows
+
+
+def part_sphere(quick: bool, out, t0) -> list[dict]:
     sph = []
-    for V in ((1e-4, 0.1) if quick else (1e-4, 1e-2, 0.03, 0.1, 0.3, 1.0, 10.0)):
+    for V in ((1e-4, 0.1) if quick else (1e-4, 1e-2, 0.03, 0.1, 0.3, 1.0, 10.0, 100.0)):
         r = solve(indenter="sphere", force=1.0, mu=0.0, speed=V, prony=SLS, tol=1e-2, **FILM)
         d = r.summary()
         sph.append({"speed_m_per_s": V, "contact_radius_m": d["contact_radius_m"],
@@ -106,9 +111,10 @@ def part_speed(quick: bool, out, t0) -> list[dict]:
                     "error_estimate": d["error_estimate"],
                     "grid_x": d["grid_points"][0], "grid_y": d["grid_points"][1],
                     "fft_pairs": r.counters["transforms"]})
+        progress(len(sph), 8, f"sphere V={V:g}", t0)
     table(sph, out / "viscoelastic_sphere.csv",
           "Viscoelastic sphere (F = 1 N, mu = 0, SLS E1 = E_inf, tau = 10 ms), tol 1e-2")
-    return rows
+    return sph
 
 
 def part_estimate(quick: bool, out, t0) -> list[dict]:
@@ -232,7 +238,7 @@ def figure(speed_rows, claim_rows, out):
 
     fig, ax = plt.subplots(2, 2, figsize=(11, 8))
     for name in dict.fromkeys(r["scene"] for r in speed_rows):
-        rr = [r for r in speed_rows if r["scene"] == name]
+        rr = [r for r in speed_rows if r["scene"] == name and r["status"] == "ok"]
         V = [r["speed_m_per_s"] for r in rr]
         ax[0, 0].loglog(V, [max(r["deformation_friction"], 1e-12) for r in rr], "o-", ms=3, label=name)
         ax[0, 1].semilogx(V, [r["a_over_a_elastic"] for r in rr], "o-", ms=3, label=name)
@@ -263,14 +269,33 @@ def figure(speed_rows, claim_rows, out):
     print(f"(written {out / 'viscoelastic.png'})")
 
 
+PARTS = ("speed", "sphere", "reference", "claim", "figure", "estimate")
+
+
 def main(argv=None) -> int:
-    args, out = parse(argv, __doc__.splitlines()[0], "out/viscoelastic")
+    def extra(p):
+        p.add_argument("--parts", default=",".join(PARTS),
+                       help=f"comma list of {', '.join(PARTS)} (default all; figure needs the "
+                            "speed and claim CSVs, made now or before)")
+
+    args, out = parse(argv, __doc__.splitlines()[0], "out/viscoelastic", extra=extra)
+    parts = args.parts.split(",")
     t0 = time.perf_counter()
-    speed_rows = part_speed(args.quick, out, t0)
-    part_reference(args.quick, out, t0)
-    claim_rows, _ = part_claim(args.quick, out, t0)
-    figure(speed_rows, claim_rows, out)
-    part_estimate(args.quick, out, t0)
+    if "speed" in parts:
+        part_speed(args.quick, out, t0)
+    if "sphere" in parts:
+        part_sphere(args.quick, out, t0)
+    if "reference" in parts:
+        part_reference(args.quick, out, t0)
+    if "claim" in parts:
+        part_claim(args.quick, out, t0)
+    if "figure" in parts:
+        import pandas as pd
+
+        figure(pd.read_csv(out / "viscoelastic_speed.csv").to_dict("records"),
+               pd.read_csv(out / "viscoelastic_claim.csv").to_dict("records"), out)
+    if "estimate" in parts:
+        part_estimate(args.quick, out, t0)
     return 0
 
 
