@@ -19,7 +19,7 @@ from ..physics.options import OPTIONS, check_applies
 from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR
 from . import files as _files
 
-__all__ = ["main", "build_parser"]
+__all__ = ["main", "build_parser", "scene_from_args"]
 
 
 
@@ -58,13 +58,17 @@ def _add_solve_options(p):
                            default=o.default, help=o.cli_help())
 
 
-def _scene_args(args) -> dict:
-    """The scene options the user gave (``physics.options``), refused where the indenter does not
-    take them (one line naming the option as typed)."""
+def scene_from_args(args):
+    """The scene of ``solve``'s options (``Scene`` for the line indenter, else ``Scene3D``): the
+    options the user gave (``physics.options``), refused where the indenter does not take them
+    (one line naming the option as typed), the scene's defaults for the others."""
+    from ..physics.scene import Scene, Scene3D
+
     given = {o.name: getattr(args, o.name) for o in OPTIONS
              if o.cli and o.scenes != "solve" and getattr(args, o.name) is not None}
-    check_applies(given, given.get("indenter", "line"))
-    return given
+    indenter = given.pop("indenter", "line")
+    check_applies(given, indenter)
+    return Scene(**given) if indenter == "line" else Scene3D(indenter=indenter, **given)
 
 
 def _plural(n: int, word: str) -> str:
@@ -151,13 +155,12 @@ def _cmd_solve(args) -> int:
     from ..physics.scene import Scene
     from .files import Outputs, add_meta, check_outputs, check_plot_path, json_ready, to_json, write_csv
 
-    given = _scene_args(args)
-    if given.pop("indenter", "line") != "line":
-        return _cmd_solve3d(args, given)
+    scene = scene_from_args(args)
+    if not isinstance(scene, Scene):
+        return _cmd_solve3d(args, scene)
     if args.maps is not None:
         raise InputError("--maps is for 3D indenters (--indenter sphere, cylinder, paraboloid); "
                          "the line indenter takes --profiles")
-    scene = Scene(**given)
     outputs = check_outputs(**{"--profiles": args.profiles, "--plot": args.plot})
     if args.plot is not None:
         check_plot_path(args.plot)
@@ -232,16 +235,14 @@ def _summary_text3d(r) -> str:
     return "\n".join(lines)
 
 
-def _cmd_solve3d(args, given) -> int:
+def _cmd_solve3d(args, scene) -> int:
     import numpy as np
 
     from ..api import solve
-    from ..physics.scene import Scene3D
     from .files import Outputs, check_outputs, check_plot_path, to_json, write_csv
 
     if args.method != "fft":
         raise InputError(f"--method {args.method} is for the line indenter; 3D indenters use fft")
-    scene = Scene3D(indenter=args.indenter, **given)
     outputs = check_outputs(**{"--profiles": args.profiles, "--plot": args.plot,
                                "--maps": args.maps})
     if args.plot is not None:
