@@ -311,9 +311,11 @@ def _cmd_study(args) -> int:
 
 
 def _study_lines() -> str:
-    """One line per study: its name and the first line of its docstring (read, not imported)."""
-    import ast
+    """One line per study: its name and the first line of its docstring (read, not imported:
+    the opening string literal only, not the whole file's syntax tree, which cost every command
+    ~0.15 s of start-up)."""
     import importlib.util
+    import re
     from pathlib import Path
 
     spec = importlib.util.find_spec("studies")
@@ -322,10 +324,13 @@ def _study_lines() -> str:
     lines = []
     for path in sorted(Path(next(iter(spec.submodule_search_locations))).glob("[a-z]*.py")):
         try:
-            doc = ast.get_docstring(ast.parse(path.read_text(encoding="utf-8"))) or ""
-        except (OSError, SyntaxError):
+            with open(path, encoding="utf-8") as fh:
+                head = fh.read(4096)
+        except (OSError, UnicodeDecodeError):
             continue
-        lines.append(f"  {path.stem:<18} {doc.strip().splitlines()[0] if doc.strip() else ''}")
+        m = re.match(r'\s*[rRuU]?("""|\'\'\')\s*(.*)', head)
+        doc = m.group(2).splitlines()[0].split(m.group(1))[0].strip() if m and m.group(2) else ""
+        lines.append(f"  {path.stem:<18} {doc}")
     return "\n".join(lines)
 
 
