@@ -46,12 +46,18 @@ from ..numerics.partial_slip import PartialSlipOperator, SlipState, solve_slip_s
 from ..physics.film import Film
 from ..physics.indenters import Cylinder
 from ..physics.scene import Scene, check_tol
+from .base import check_grid_points
 from .fft import MAX_POINTS, MIN_POINTS, solve_fft
 
-__all__ = ["solve_onset", "OnsetResult", "STEP_KEYS", "PROFILE_COLUMNS", "MAX_STEPS",
-           "LOADINGS"]
+__all__ = ["onset", "solve_onset", "OnsetResult", "STEP_KEYS", "PROFILE_COLUMNS", "MAX_STEPS",
+           "LOADINGS", "DEFAULT_TOL"]
 
 MAX_STEPS = 10000
+DEFAULT_TOL = 1e-3
+"""Default tol of ``onset``: 10 x solve's line default.  The whole loading is solved twice per
+level, and the contact edges of a partial-slip state converge less regularly than the steady
+ones (the stick-zone edges move across nodes at every step): at the paper's scene and tol
+1e-4 the levels go to 2^14-2^15 points (studies/onset)."""
 LOADINGS = ("frictional", "frictionless")
 _LEVEL_MARGIN = 1.5  # as solvers.fft's estimate: 1.5 x the difference of the last two levels
 _IMAGE_AMPLITUDE = 2.0  # solvers.fft's bound of the periodic images' relative effect
@@ -191,7 +197,54 @@ def _differences(fine, coarse):
     return main, stick
 
 
-def solve_onset(scene: Scene, steps: int = 20, tol: float = 1e-4, *, loading: str = "frictional",
+def onset(scene: Scene | None = None, *, steps: int = 20, tol: float | None = None,
+          loading: str = "frictional", loading_steps: int = 10, grid_points: int | None = None,
+          domain_length: float | None = None, progress=None, **params) -> OnsetResult:
+    """The onset of sliding of a line indenter on the film: the normal load, then the
+    tangential load Q raised from 0 to mu P in ``steps`` equal steps (quasi-static,
+    incremental Coulomb friction; see ``solvers.onset``).
+
+    scene : a ``Scene`` (line indenter, Amontons friction, rigid interface), or omitted and
+            built from ``params`` (``load`` [N/m], ``mu``, ``young`` [Pa], ``radius`` [m],
+            ``thickness`` [m], ``poisson``) over the paper's defaults.  mu != 0; its sign is
+            the direction of Q (mu > 0: toward +x).
+    steps : N, the number of tangential steps (Q/(mu P) = 1/N, ..., 1), 1 ... 10000.
+    tol : relative accuracy target of every step's a, contact centre, indentation, peak
+          pressure and tangential displacement (default ``DEFAULT_TOL`` = 1e-3).
+    loading : "frictional" (default: the normal load applied in ``loading_steps`` steps with
+          Coulomb friction acting) or "frictionless" (lubricated approach: q = 0 at Q = 0).
+    grid_points, domain_length [m] : fix the grid instead of choosing it from tol.
+
+    Returns an ``OnsetResult``: per step the fields and measurements, ``summary()`` (JSON
+    record, SI), ``plot()`` (a Figure).  InputError for a bad option (named), ConvergenceError
+    if the refinement cannot meet tol.
+    """
+    if scene is None:
+        if params.get("indenter", "line") != "line":
+            raise InputError(f"onset: --indenter {params['indenter']} is not implemented yet "
+                             f"(line only)")
+        params.pop("indenter", None)
+        if "force" in params:
+            raise InputError("force [N] is for 3D indenters; onset takes a line indenter "
+                             "(load [N/m])")
+        try:
+            scene = Scene(**params)
+        except TypeError as exc:
+            raise InputError(f"onset: {exc}") from None
+    elif params:
+        scene = scene.with_(**params)
+    L_h = None
+    if domain_length is not None:
+        from ..physics.scene import check_positive
+
+        L_h = check_positive("domain_length (--domain-length)", domain_length, "m") \
+            / scene.length_unit
+    return solve_onset(scene, steps, DEFAULT_TOL if tol is None else tol, loading=loading,
+                       loading_steps=loading_steps, grid_points=grid_points,
+                       domain_length=L_h, progress=progress)
+
+
+def solve_onset(scene: Scene, steps: int = 20, tol: float = DEFAULT_TOL, *, loading: str = "frictional",
                 loading_steps: int = 10, grid_points: int | None = None,
                 domain_length: float | None = None, progress=None) -> OnsetResult:
     """Partial slip of ``scene`` (a line indenter, Amontons mu != 0) under Q = mu P k/steps,
@@ -209,12 +262,15 @@ def solve_onset(scene: Scene, steps: int = 20, tol: float = 1e-4, *, loading: st
     if loading not in LOADINGS:
         raise InputError(f"loading (--loading) must be one of {', '.join(LOADINGS)}; got {loading!r}")
     tol = check_tol(tol)
+    grid_points = check_grid_points(grid_points, MIN_POINTS, MAX_POINTS,
+                                    "grid_points (--grid-points)", even=True)
     film = Film(poisson=scene.poisson)
     P, mu = scene.P, scene.mu
     accept = max(1e-8, 1e-2 * tol)
     # the steady sliding solution: the grid spacing, the contact's extent at gross sliding,
     # and the reference of the last step
-    steady = solve_fft(scene, "exact", tol, grid_points, domain_length)
+    # (always on solve's own grid: a user-fixed grid is this loading's, not the reference's)
+    steady = solve_fft(scene, "exact", tol)
     a_s, c_s = steady.half_width, steady.center
     lo, hi = min(-a_s, c_s - a_s), max(a_s, c_s + a_s)
     margin = film.domain_margin(tol)
@@ -229,6 +285,14 @@ def solve_onset(scene: Scene, steps: int = 20, tol: float = 1e-4, *, loading: st
         raise InputError(f"tol {tol:g} needs more than 2^22 grid points for onset; raise tol")
     image = _IMAGE_AMPLITUDE * max(1.0, abs(mu) / 10.0) * math.exp(-film.decay_rate
                                                                    * max(L - (hi - lo), 0.0))
+    if domain_length is not None and not grid_points and image > 0.5 * tol:
+        need = (hi - lo) + math.log(2.0 * _IMAGE_AMPLITUDE * max(1.0, abs(mu) / 10.0) / tol) \
+            / film.decay_rate
+        raise InputError(f"domain_length (--domain-length) {L * scene.length_unit:.4g} m is too "
+                         f"short for this loading at tol {tol:g}: use at least "
+                         f"{need * scene.length_unit:.4g} m, raise tol, or leave it automatic "
+                         f"(with --grid-points fixed too, it is taken and the images' error is "
+                         f"in the estimate)")
 
     def run(npts):
         return _Run(Grid.centered(npts, L, center), film, P, mu, steps, loading, loading_steps,
