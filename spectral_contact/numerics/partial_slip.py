@@ -48,6 +48,7 @@ from .krylov import gmres
 __all__ = ["SlipState", "PartialSlipOperator", "solve_slip_step"]
 
 _SET_TOL = 1e-9  # relative margins of the set updates (round-off of marginal nodes)
+_SEARCH_RTOL = 1e-3  # GMRES tolerance while the sets are searched (then rtol on the last set)
 
 
 @dataclass
@@ -174,14 +175,17 @@ def _pair_plan(n: int):
 
 def solve_slip_step(op: PartialSlipOperator, f: np.ndarray, prev: SlipState, P: float, Q: float,
                     mu: float, *, guess: SlipState | None = None, rtol: float = 1e-10,
-                    accept: float = 1e-8, max_outer: int = 100, max_krylov: int = 2000
-                    ) -> SlipState:
+                    search_rtol: float | None = _SEARCH_RTOL, accept: float = 1e-8,
+                    max_outer: int = 100, max_krylov: int = 2000) -> SlipState:
     """One quasi-static load step from the state ``prev`` to the loads (P, Q) (dimensionless:
     P, Q per unit length in G h/2R x h; ``f`` the indenter's heights above its apex, in
     h^2/2R), Coulomb friction coefficient |mu|.
 
     guess : first sets and fields (default ``prev``; for the first step of a loading from
             nothing, e.g. a frictionless solution: its contact set, all stuck).
+    search_rtol : the inner (GMRES) tolerance while the sets are searched; once they repeat,
+            the solve is redone to ``rtol`` on them (and must confirm them).  Only the path
+            changes, not what is accepted (None: ``rtol`` throughout).
     Returns the new state (its ``slip``: the accumulated slip delta - u relative to where each
     node was when it came into contact, 0 off the contact).  ConvergenceError if the sets do not
     settle or the final residual exceeds ``accept``.
@@ -206,6 +210,7 @@ def solve_slip_step(op: PartialSlipOperator, f: np.ndarray, prev: SlipState, P: 
     counters = {"fft": 0, "krylov": 0}
     seen = set()
     result = None
+    rt = max(rtol, search_rtol or rtol)
     cautious = False
     cycles = 0
     for outer in range(1, max_outer + 1):
@@ -279,7 +284,7 @@ def solve_slip_step(op: PartialSlipOperator, f: np.ndarray, prev: SlipState, P: 
 
         b = np.concatenate([rhs_gap, rhs_stick, [wP * P, wQ * Q]])
         v0 = np.concatenate([p[C], q[S], [d, delta]])
-        v, its, rel = gmres(matvec, psolve, b, v0, rtol=rtol, maxiter=max_krylov)
+        v, its, rel = gmres(matvec, psolve, b, v0, rtol=rt, maxiter=max_krylov)
         counters["krylov"] += its
         pf, qf, w, u = fields()
         d, delta = float(v[nC + nS]), float(v[nC + nS + 1])
@@ -324,6 +329,10 @@ def solve_slip_step(op: PartialSlipOperator, f: np.ndarray, prev: SlipState, P: 
         key = (new_contact.tobytes(), new_stick.tobytes(), new_sigma.tobytes())
         same = (np.array_equal(new_contact, contact) and np.array_equal(new_stick, stick)
                 and np.array_equal(new_sigma, sigma))
+        if same and rt > rtol:  # the loose search has settled: confirm at rtol
+            rt = rtol
+            seen.clear()
+            continue
         if same:
             result = (p, q, w, u, gap, ds, rel)
             break

@@ -114,6 +114,40 @@ def _stick_edges(x, dx, stick, margin):
     return out[0], out[1]
 
 
+def _interval(mask):
+    """(first, last) node of a mask that is one run (None otherwise)."""
+    idx = np.flatnonzero(mask)
+    if not idx.size or idx[-1] - idx[0] + 1 != idx.size:
+        return None
+    return int(idx[0]), int(idx[-1])
+
+
+def _predict(s0: SlipState, s1: SlipState) -> SlipState | None:
+    """First sets of the next step: the contact and stick intervals of the last two steps
+    extrapolated linearly (node indices), new slip nodes slipping along the last step's slip,
+    the last fields elsewhere.  Only the number of active-set iterations depends on it (None
+    when a set is not one interval, or the extrapolation is empty)."""
+    c0, c1, t0, t1 = (_interval(s0.contact), _interval(s1.contact), _interval(s0.stick),
+                      _interval(s1.stick))
+    if None in (c0, c1, t0, t1) or s1.stick.sum() < 3:
+        return None
+    n = s1.p.size
+    lo, hi = 2 * c1[0] - c0[0], 2 * c1[1] - c0[1]
+    slo, shi = max(2 * t1[0] - t0[0], lo), min(2 * t1[1] - t0[1], hi)
+    if not (0 <= lo <= slo <= shi <= hi < n):
+        return None
+    contact = np.zeros(n, dtype=bool)
+    contact[lo:hi + 1] = True
+    stick = np.zeros(n, dtype=bool)
+    stick[slo:shi + 1] = True
+    direction = 1 if s1.Q - s0.Q >= 0 else -1
+    sigma = np.where(contact & ~stick, np.where(s1.sigma != 0, s1.sigma, direction), 0)
+    p = np.where(contact, np.maximum(s1.p, 1e-12), 0.0)
+    return SlipState(p=p, q=np.where(contact, s1.q, 0.0), w=s1.w, u=s1.u, d=s1.d,
+                     delta=2 * s1.delta - s0.delta, contact=contact, stick=stick,
+                     sigma=sigma.astype(np.int8), P=s1.P, Q=s1.Q)
+
+
 class _Run:
     """The whole loading on one grid: the states after the normal loading and after each
     tangential step, and their measurements."""
@@ -157,8 +191,9 @@ class _Run:
         self.states = []
         sgn = 1.0 if mu > 0 else -1.0
         for k in range(1, steps + 1):
+            guess = _predict(self.states[-2], self.states[-1]) if k >= 3 else None
             state = solve_slip_step(op, f, state, P, sgn * amu * P * k / steps, amu,
-                                    accept=accept)
+                                    guess=guess, accept=accept)
             count(state)
             self.states.append(state)
             if progress:
