@@ -60,6 +60,31 @@ def test_half_space_limit_follows_cattaneo_mindlin(loading):
         assert rms < 0.02 * mu * p0, (k, rms / (mu * p0))
 
 
+def test_half_space_hysteresis_follows_mindlin_deresiewicz():
+    """Loading to Q* = 0.8 mu P, unloading to -Q*, reloading to Q* (a/h = 0.02): the stick
+    zone while the load runs back is |x| < a sqrt(1 - |Q* - Q|/(2 mu P)) (the reverse slip
+    spreading in from the edges), within 1 % of a, and the loop closes."""
+    a, A = 0.02, 0.8
+    sc = _cattaneo_scene(a)
+    r = onset(sc, steps=4, loading="frictionless", grid_points=8192,
+              domain_length=2.0 * sc.thickness, amplitude=A, cycle=True)
+    q = r.Q_over_muP
+    assert r.n_steps == 20 and q[4] == A and q[12] == -A and q[20] == A
+    for k in range(1, r.n_steps + 1):
+        m = r.measures[k]
+        c = 0.5 * (m["stick_hi"] - m["stick_lo"])
+        if k <= 4:
+            c_exact = a * math.sqrt(1.0 - q[k])
+        else:
+            turn = A if k <= 12 else -A  # the last turning point
+            c_exact = a * math.sqrt(1.0 - abs(turn - q[k]) / 2.0)
+        assert abs(c - c_exact) < 0.01 * a, (k, q[k], c / a, c_exact / a)
+    d = [m["delta"] for m in r.measures]
+    assert d[20] == pytest.approx(d[4], rel=1e-3)
+    assert d[12] == pytest.approx(-d[4], rel=1e-3)
+    assert d[8] > 0.0 > d[16]  # Q = 0 with a residual displacement: the loop's width
+
+
 def test_coulomb_inequality_at_every_node(paper):
     mu = abs(paper.scene.mu)
     assert np.all(paper.pressure >= 0.0)
@@ -136,7 +161,8 @@ def test_last_step_is_steady_sliding():
 @pytest.mark.parametrize("bad", [dict(steps=0), dict(steps=2.5), dict(loading="sticky"),
                                  dict(mu=0.0), dict(friction_law="power", friction_exponent=0.1,
                                                     friction_pref=1e3),
-                                 dict(indenter="sphere"), dict(loading_steps=0)])
+                                 dict(indenter="sphere"), dict(loading_steps=0),
+                                 dict(amplitude=0.0), dict(amplitude=1.5)])
 def test_python_refusals(bad):
     with pytest.raises(InputError):
         onset(**bad)

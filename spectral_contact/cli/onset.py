@@ -1,7 +1,7 @@
 """The ``onset`` subcommand: partial slip under a growing tangential load (issue 22).
 
     spectral-contact onset [scene options of solve] [--steps N] [--tol T] [--loading L]
-        [--json] [--profiles FILE.csv] [--plot FILE.png] [--sensor]
+        [--amplitude A] [--cycle] [--json] [--profiles FILE.csv] [--plot FILE.png] [--sensor]
 
 The normal load first, then Q = mu P k/N, k = 1..N (``solvers.onset``).  Text summary: one line
 per step; ``--json``: the record of ``OnsetResult.summary()``; ``--profiles``: one tidy table, a
@@ -52,6 +52,11 @@ def register(subparsers) -> None:
                         "(default); frictionless: a lubricated approach (q = 0 at Q = 0)")
     p.add_argument("--loading-steps", type=int, default=10,
                    help="steps of the frictional normal loading (default 10)")
+    p.add_argument("--amplitude", type=float, default=1.0,
+                   help="largest Q/(mu P), in (0, 1] (default 1: up to gross sliding)")
+    p.add_argument("--cycle", action="store_true",
+                   help="then unload to -amplitude and reload to +amplitude (2 --steps each): "
+                        "Mindlin's hysteresis loop")
     p.add_argument("--tol", type=float, default=None,
                    help=f"relative accuracy target of each step's a, centre, indentation, peak "
                         f"pressure and tangential displacement (default {DEFAULT_TOL:g})")
@@ -145,7 +150,8 @@ def _cmd_onset(args) -> int:
 
     r = onset(scene, steps=args.steps, tol=args.tol, loading=args.loading,
               loading_steps=args.loading_steps, grid_points=args.grid_points,
-              domain_length=args.domain_length, progress=progress)
+              domain_length=args.domain_length, amplitude=args.amplitude, cycle=args.cycle,
+              progress=progress)
     if not r.tolerance_met:
         print(f"warning: error estimate {max(r.error_estimates):.1e} > --tol at the fixed "
               f"--grid-points {args.grid_points} (JSON: \"tolerance_met\": false)", file=sys.stderr)

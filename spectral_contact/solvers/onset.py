@@ -152,7 +152,7 @@ class _Run:
     """The whole loading on one grid: the states after the normal loading and after each
     tangential step, and their measurements."""
 
-    def __init__(self, grid, film, P, mu, steps, loading, loading_steps, accept, progress=None):
+    def __init__(self, grid, film, P, mu, path, loading, loading_steps, accept, progress=None):
         self.grid = grid
         op = PartialSlipOperator(grid, film)
         f = grid.x ** 2
@@ -190,9 +190,10 @@ class _Run:
         self.loaded = state
         self.states = []
         sgn = 1.0 if mu > 0 else -1.0
+        steps = len(path)
         for k in range(1, steps + 1):
             guess = _predict(self.states[-2], self.states[-1]) if k >= 3 else None
-            state = solve_slip_step(op, f, state, P, sgn * amu * P * k / steps, amu,
+            state = solve_slip_step(op, f, state, P, sgn * amu * P * path[k - 1], amu,
                                     guess=guess, accept=accept)
             count(state)
             self.states.append(state)
@@ -232,9 +233,20 @@ def _differences(fine, coarse):
     return main, stick
 
 
+def q_path(steps: int, amplitude: float = 1.0, cycle: bool = False) -> list[float]:
+    """The tangential loads Q/(mu P) of the steps: amplitude k/N, k = 1..N; with ``cycle``
+    then down to -amplitude and back up to +amplitude in 2N steps each (Mindlin's loop)."""
+    up = [amplitude * k / steps for k in range(1, steps + 1)]
+    if not cycle:
+        return up
+    down = [amplitude * (1.0 - k / steps) for k in range(1, 2 * steps + 1)]
+    return up + down + [-x for x in down]
+
+
 def onset(scene: Scene | None = None, *, steps: int = 20, tol: float | None = None,
           loading: str = "frictional", loading_steps: int = 10, grid_points: int | None = None,
-          domain_length: float | None = None, progress=None, **params) -> OnsetResult:
+          domain_length: float | None = None, amplitude: float = 1.0, cycle: bool = False,
+          progress=None, **params) -> OnsetResult:
     """The onset of sliding of a line indenter on the film: the normal load, then the
     tangential load Q raised from 0 to mu P in ``steps`` equal steps (quasi-static,
     incremental Coulomb friction; see ``solvers.onset``).
@@ -249,6 +261,9 @@ def onset(scene: Scene | None = None, *, steps: int = 20, tol: float | None = No
     loading : "frictional" (default: the normal load applied in ``loading_steps`` steps with
           Coulomb friction acting) or "frictionless" (lubricated approach: q = 0 at Q = 0).
     grid_points, domain_length [m] : fix the grid instead of choosing it from tol.
+    amplitude : the largest Q/(mu P), in (0, 1] (default 1: up to gross sliding).
+    cycle : after the loading to amplitude, unload to -amplitude and reload to +amplitude
+          (2 ``steps`` each): Mindlin's hysteresis loop.
 
     Returns an ``OnsetResult``: per step the fields and measurements, ``summary()`` (JSON
     record, SI), ``plot()`` (a Figure).  InputError for a bad option (named), ConvergenceError
@@ -276,12 +291,13 @@ def onset(scene: Scene | None = None, *, steps: int = 20, tol: float | None = No
             / scene.length_unit
     return solve_onset(scene, steps, DEFAULT_TOL if tol is None else tol, loading=loading,
                        loading_steps=loading_steps, grid_points=grid_points,
-                       domain_length=L_h, progress=progress)
+                       domain_length=L_h, amplitude=amplitude, cycle=cycle, progress=progress)
 
 
 def solve_onset(scene: Scene, steps: int = 20, tol: float = DEFAULT_TOL, *, loading: str = "frictional",
                 loading_steps: int = 10, grid_points: int | None = None,
-                domain_length: float | None = None, progress=None) -> OnsetResult:
+                domain_length: float | None = None, amplitude: float = 1.0, cycle: bool = False,
+                progress=None) -> OnsetResult:
     """Partial slip of ``scene`` (a line indenter, Amontons mu != 0) under Q = mu P k/steps,
     k = 1..steps, after the normal loading (see the module's docstring).
 
@@ -294,6 +310,12 @@ def solve_onset(scene: Scene, steps: int = 20, tol: float = DEFAULT_TOL, *, load
     scene = check_onset_scene(scene)
     steps = _check_int("steps (--steps)", steps, 1, MAX_STEPS)
     loading_steps = _check_int("loading_steps (--loading-steps)", loading_steps, 1, MAX_STEPS)
+    amp = amplitude if isinstance(amplitude, (int, float)) and not isinstance(amplitude, bool) \
+        else math.nan
+    if not 0.0 < amp <= 1.0:
+        raise InputError(f"amplitude (--amplitude) must be in (0, 1] (Q_max / (mu P)); got "
+                         f"{amplitude!r:.40}")
+    path = q_path(steps, float(amp), bool(cycle))
     if loading not in LOADINGS:
         raise InputError(f"loading (--loading) must be one of {', '.join(LOADINGS)}; got {loading!r}")
     tol = check_tol(tol)
@@ -330,7 +352,7 @@ def solve_onset(scene: Scene, steps: int = 20, tol: float = DEFAULT_TOL, *, load
                          f"in the estimate)")
 
     def run(npts):
-        return _Run(Grid.centered(npts, L, center), film, P, mu, steps, loading, loading_steps,
+        return _Run(Grid.centered(npts, L, center), film, P, mu, path, loading, loading_steps,
                     accept, progress)
 
     coarse = run(n // 2)
@@ -349,7 +371,7 @@ def solve_onset(scene: Scene, steps: int = 20, tol: float = DEFAULT_TOL, *, load
                                f"raise tol", residuals=est, iterations=doublings)
     counters = {k: fine.counters[k] + coarse.counters[k] for k in fine.counters}
     stick_est = [_LEVEL_MARGIN * e for e in sdiff]
-    return OnsetResult(scene=scene, steps=steps, loading=loading, loading_steps=loading_steps,
+    return OnsetResult(scene=scene, path=path, loading=loading, loading_steps=loading_steps,
                        tol=tol, run=fine, estimates=est, stick_estimates=stick_est,
                        steady=steady, tolerance_met=met,
                        wall_time_s=time.perf_counter() - t0, counters=counters, film=film)
@@ -366,10 +388,11 @@ class OnsetResult:
     ``base_sigma_xz[k]`` (sigma at z = 0, < 0 in compression), k = 0..steps.
     """
 
-    def __init__(self, scene, steps, loading, loading_steps, tol, run, estimates,
+    def __init__(self, scene, path, loading, loading_steps, tol, run, estimates,
                  stick_estimates, steady, tolerance_met, wall_time_s, counters, film):
         self.scene = scene
-        self.n_steps = steps
+        self.n_steps = len(path)
+        self.cycle = len(path) > 1 and min(path) < 0.0
         self.loading = loading
         self.loading_steps = loading_steps
         self.tol = tol
@@ -397,7 +420,7 @@ class OnsetResult:
             xz.append(sxz)
         self.base_sigma_zz = np.array(zz)
         self.base_sigma_xz = np.array(xz)
-        self.Q_over_muP = np.array([0.0] + [k / steps for k in range(1, steps + 1)])
+        self.Q_over_muP = np.array([0.0] + list(path))
 
     # --- SI ------------------------------------------------------------------------------------
     def _si_step(self, k: int) -> dict:
@@ -478,7 +501,11 @@ class OnsetResult:
         axs = fig.subplots(2, 2)
         mm, kPa = 1e3 / 1.0, 1e-3
         x = self.x * sc.length_unit * mm
-        ks = sorted({int(round(s * self.n_steps)) for s in shown if 0 < s <= 1} - {0})
+        r = self.Q_over_muP
+        if self.cycle:  # the turning points and the zero crossings
+            ks = [int(np.argmax(r)), int(np.argmin(r)), self.n_steps]
+        else:
+            ks = sorted({int(np.argmin(np.abs(r - s))) for s in shown if 0 < s <= 1} - {0})
         a_max = max(m["a"] + abs(m["c"]) for m in self.measures)
         win = (np.abs(self.x) < a_max + 2.0)
         ax = axs[0, 0]
@@ -508,19 +535,20 @@ class OnsetResult:
         ax.set_title("base stresses")
         ax.legend(fontsize=7)
         ax = axs[1, 0]
-        r = self.Q_over_muP
         h = sc.length_unit * mm
+        if self.cycle:  # the stick zone against the step (Q goes up, down and up)
+            r = np.arange(self.n_steps + 1)
         ax.fill_between(r, [m["stick_lo"] * h for m in self.measures],
                         [m["stick_hi"] * h for m in self.measures], alpha=0.4, label="stick zone")
         ax.plot(r, [(m["c"] - m["a"]) * h for m in self.measures], "k-", lw=1, label="contact")
         ax.plot(r, [(m["c"] + m["a"]) * h for m in self.measures], "k-", lw=1)
-        ax.set_xlabel("Q / (mu P)")
+        ax.set_xlabel("step" if self.cycle else "Q / (mu P)")
         ax.set_ylabel("x [mm]")
         ax.set_title("stick zone")
         ax.legend(fontsize=7)
         ax = axs[1, 1]
         ax.plot([m["delta"] * sc.displacement_unit * 1e6 for m in self.measures],
-                r * sc.mu * sc.load, "o-", ms=3)
+                self.Q_over_muP * sc.mu * sc.load, "o-", ms=3)
         ax.set_xlabel("indenter's tangential displacement [um]")
         ax.set_ylabel("Q [N/m]")
         ax.set_title("tangential load vs displacement")
