@@ -14,6 +14,7 @@ from .api import METHODS, MODELS, solve
 from .errors import ConvergenceError, InputError, SpectralContactError
 from .physics.scene import PAPER_SCENE, Scene, Scene3D
 from .result import ContactResult, ContactResult3D
+from .solvers.onset import OnsetResult, onset  # noqa: F401 (issue 22: the onset of sliding)
 
 __all__ = ["solve", "Scene", "Scene3D", "PAPER_SCENE", "ContactResult", "ContactResult3D",
            "InputError", "ConvergenceError",
