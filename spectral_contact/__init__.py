@@ -18,6 +18,7 @@ from .physics.friction import FrictionLaw
 from .physics.interface import Interface
 from .physics.scene import PAPER_SCENE, Scene, Scene3D
 from .result import ContactResult, ContactResult3D
+from .solvers.onset import OnsetResult, onset  # noqa: F401 (issue 22: the onset of sliding)
 
 __all__ = ["solve", "Scene", "Scene3D", "PAPER_SCENE", "ContactResult", "ContactResult3D",
            "Film", "Interface", "FrictionLaw", "InputError", "ConvergenceError",

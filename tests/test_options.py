@@ -12,7 +12,8 @@ import math
 import pytest
 
 from spectral_contact.api import METHODS, MODELS, make_scene, solve
-from spectral_contact.cli.main import build_parser, main, scene_from_args
+from spectral_contact.cli.main import build_parser, main
+from spectral_contact.cli.scene_options import scene_from_args
 from spectral_contact.errors import InputError
 from spectral_contact.physics.options import OPTIONS, option
 from spectral_contact.physics.scene import Scene, Scene3D
