@@ -158,6 +158,8 @@ def user_heights(function, *xy) -> np.ndarray:
     the nodes' shape, else one-line InputError."""
     try:
         f = np.asarray(function(*xy), dtype=float)
+    except InputError:
+        raise
     except (TypeError, ValueError) as exc:
         raise InputError(f"{named('indenter')}: the height function must return numbers [m]; "
                          f"{type(exc).__name__}: {str(exc)[:80]}") from None
