@@ -241,3 +241,20 @@ def test_solve_refuses_a_scene_and_its_parameters_together():
         solve(Scene(load=100.0), load=200.0)
     with pytest.raises(InputError, match="force"):
         solve(Scene3D(), force=2.0)
+
+
+def test_the_json_keys_are_the_declared_ones():
+    """Each option's declared JSON key is a key of the results' records (lines, surfaces, the
+    laws' parameters); the laws' and the exponential interface's keys come from the table."""
+    from spectral_contact.physics.friction import FrictionLaw
+    from spectral_contact.result import JSON_KEYS, JSON_KEYS_3D
+
+    keys = set(JSON_KEYS) | set(JSON_KEYS_3D) | {"length_m", "radius_x_m", "radius_y_m",
+                                                  "interface_pressure_Pa", "interface_length_m"}
+    keys |= set(FrictionLaw("power", exponent=0.1, pref=1e4).describe())
+    keys |= set(FrictionLaw("linear", shear_strength=1.0, shear_slope=1.0).describe())
+    assert {o.json for o in OPTIONS if o.json} <= keys
+    assert FrictionLaw("power", exponent=0.1, pref=1e4).describe() == {
+        "friction_law": "power", "friction_exponent": 0.1, "friction_pref_Pa": 1e4}
+    assert FrictionLaw("linear", shear_strength=5.0, shear_slope=2.0).describe() == {
+        "friction_law": "linear", "shear_strength_Pa": 5.0, "shear_slope": 2.0}
