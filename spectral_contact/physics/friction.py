@@ -82,6 +82,10 @@ class FrictionLaw:
             object.__setattr__(self, "exponent", n)
             object.__setattr__(self, "pref", pref)
         if self.law == "linear":
+            if self.shear_strength is None and self.shear_slope is None:  # else: no friction at all
+                raise InputError("friction law linear needs its parameters: --shear-strength "
+                                 "(tau_0) [Pa] and/or --shear-slope (alpha), same sign; --mu is "
+                                 "not used by this law")
             tau0 = check_finite("shear strength (tau_0)", self.shear_strength or 0.0, "a finite stress [Pa]")
             alpha = check_finite("shear slope (alpha)", self.shear_slope or 0.0, "finite, same sign as tau_0")
             if tau0 * alpha < 0.0:

@@ -16,6 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import InputError
+
 __all__ = ["Indenter", "Cylinder", "Paraboloid", "Sphere", "FiniteCylinder", "HeightFunction"]
 
 
@@ -150,6 +152,33 @@ class FiniteCylinder(Indenter):
         return 2.0 * math.sqrt(line / (2 * math.pi * self.curvature)), self.half_length
 
 
+def checked_heights(values, shape) -> np.ndarray:
+    """The heights an indenter's callable returned, as floats of ``shape``: InputError (one
+    line) for anything else -- text, NaN, -inf, another shape, no finite height at all.
+    +inf is allowed (no indenter there)."""
+    try:
+        f = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        kind = type(values).__name__
+        if isinstance(values, np.ndarray):
+            kind = f"an array of {values.dtype}"
+        raise InputError(f"the indenter's height function must return numbers (heights [m], "
+                         f"+inf where there is no indenter); got {kind}") from None
+    try:
+        f = np.broadcast_to(f, shape)
+    except ValueError:
+        raise InputError(f"the indenter's height function must return an array of the shape of "
+                         f"its x, y {shape}; got {f.shape}") from None
+    bad = np.isnan(f) | (f == -np.inf)
+    if bad.any():
+        raise InputError(f"the indenter's height function returned NaN or -inf at {int(bad.sum())} "
+                         f"of {f.size} points: heights must be numbers, +inf where there is no "
+                         f"indenter")
+    if not np.isfinite(f).any():
+        raise InputError("the indenter's height function is +inf everywhere: no indenter")
+    return f
+
+
 @dataclass(frozen=True)
 class HeightFunction(Indenter):
     """Any rigid shape: ``function(x, y)`` gives the height f >= 0 above the apex (in the
@@ -164,7 +193,7 @@ class HeightFunction(Indenter):
 
     def height(self, grid) -> np.ndarray:
         x, y = self.offset(grid)
-        f = np.asarray(self.function(x + 0 * y, y + 0 * x), dtype=float)
+        f = checked_heights(self.function(x + 0 * y, y + 0 * x), np.broadcast(x, y).shape)
         return f - np.min(f)
 
     def initial_pressure(self, grid) -> np.ndarray:

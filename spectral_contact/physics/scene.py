@@ -85,6 +85,29 @@ _LABEL = {"load": "load (P_L)", "young": "young (E)", "radius": "radius (R)",
 _UNIT = {"load": "N/m", "young": "Pa", "radius": "m", "thickness": "m"}
 
 
+LAW_SCALE_MAX = 1e8
+"""Bound on the friction law's stress parameters (p_ref, tau_0) over the scene's stress unit
+E h/(6R): beyond it the local friction coefficient mu (p/p_ref)^-n (or tau_0 against p) is
+under- or overflowing nonsense (p_ref = 5e-324 Pa divided by zero; 1e300 Pa never converged)."""
+SHAPE_RATIO_MIN, SHAPE_RATIO_MAX = 1e-6, 1e6
+"""Bounds on a 3D indenter's shape ratios (cylinder length / h, paraboloid radii / radius): a
+subnormal length divided by zero, a subnormal radius_x never converged."""
+
+
+def _check_law_scales(scene) -> None:
+    """The friction law's stresses within LAW_SCALE_MAX of the stress unit (tau_0 may be 0)."""
+    law, unit = scene.friction, scene.stress_unit
+    for value, name, opt in ((law.pref, "friction pref (p_ref)", "--friction-pref"),
+                             (law.shear_strength, "shear strength (tau_0)", "--shear-strength")):
+        if value is None or (value == 0.0 and opt == "--shear-strength"):
+            continue
+        ratio = abs(value) / unit
+        if not 1.0 / LAW_SCALE_MAX <= ratio <= LAW_SCALE_MAX:
+            raise InputError(f"{name} = {value:g} Pa is out of range: |value| / (E h/(6R) = "
+                             f"{unit:.3g} Pa) = {ratio:.3g} must be in [{1 / LAW_SCALE_MAX:g}, "
+                             f"{LAW_SCALE_MAX:g}] ({opt})")
+
+
 @dataclass(frozen=True)
 class Scene:
     """A rigid cylinder sliding on an elastic film (incompressible by default) bonded to a rigid
@@ -174,11 +197,14 @@ class Scene:
         object.__setattr__(self, "load", load + 0.0)
         self._check_scales()
         self._check_interface_law()
+        _check_law_scales(self)
 
     def extreme_parameter(self, names=("load", "young", "thickness", "radius")) -> str:
         """"name = value unit" of the parameter among ``names`` farthest (in decades) from the
         paper's value: the one to name when a derived quantity is out of range."""
-        far = max(names, key=lambda n: abs(math.log10(getattr(self, n) / _TYPICAL[n]))
+        # log10 of each factor, not of the ratio: a subnormal value over the typical one
+        # underflows to 0 (log10(4.9e-324 / 200) is a domain error)
+        far = max(names, key=lambda n: abs(math.log10(getattr(self, n)) - math.log10(_TYPICAL[n]))
                   if getattr(self, n) > 0 else math.inf)
         return f"{_LABEL[far]} = {getattr(self, far):g} {_UNIT[far]}"
 
@@ -408,6 +434,16 @@ class Scene3D:
                     f"radius would be {s:.3g} film thicknesses; the 3D solver takes "
                     f"{A_OVER_H_MIN_3D:g} ... {A_OVER_H_MAX_3D:g} (smaller: use model hertz)")
 
+        _check_law_scales(self)
+        for name, ratio, what in (
+                ("length", self.length / self.thickness, "length / thickness"),
+                ("radius_x", self.radius_x / self.radius, "radius_x / radius"),
+                ("radius_y", self.radius_y / self.radius, "radius_y / radius")):
+            if not SHAPE_RATIO_MIN <= ratio <= SHAPE_RATIO_MAX:
+                raise InputError(f"{name} = {getattr(self, name):g} m is out of range: {what} = "
+                                 f"{ratio:.3g} must be in [{SHAPE_RATIO_MIN:g}, "
+                                 f"{SHAPE_RATIO_MAX:g}]")
+
     length_unit = Scene.length_unit
     displacement_unit = Scene.displacement_unit
     stress_unit = Scene.stress_unit
@@ -423,7 +459,7 @@ class Scene3D:
 
     def indenter_object(self):
         """The indenter in the core's units (``physics.indenters``), apex at the origin."""
-        from .indenters import FiniteCylinder, HeightFunction, Paraboloid, Sphere
+        from .indenters import FiniteCylinder, HeightFunction, Paraboloid, Sphere, checked_heights
 
         h, R = self.thickness, self.radius
         if self.indenter == "sphere":
@@ -435,7 +471,7 @@ class Scene3D:
         unit = self.displacement_unit
 
         def f(x, y):
-            return np.asarray(self.height(x * h, y * h), dtype=float) / unit
+            return checked_heights(self.height(x * h, y * h), np.broadcast(x, y).shape) / unit
 
         return HeightFunction(0.0, self.P, f, (self.extent / h, self.extent / h))
 
