@@ -15,9 +15,9 @@ import sys
 import threading
 
 from ..errors import ConvergenceError, InputError, SpectralContactError
-from ..physics.options import OPTIONS, check_applies
 from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR
 from . import files as _files
+from .scene_options import add_scene_options, add_solve_options, scene_args
 
 __all__ = ["main", "build_parser"]
 
@@ -34,37 +34,6 @@ def _plugins():
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # one line, exit status 2
         raise InputError(f"{self.prog}: {message}")
-
-
-def _add_scene_options(p):
-    """The scene options of ``solve``, from the one declaration (``physics.options``): each
-    left None when not given, so that an option the indenter does not take is refused and the
-    scene's own defaults apply."""
-    for o in OPTIONS:
-        if o.cli and o.scenes != "solve":
-            p.add_argument(o.flag, dest=o.name, type=o.kind, choices=o.choices, default=None,
-                           help=o.cli_help())
-
-
-def _add_solve_options(p):
-    """``solve``'s model, method, tol, grid points and period (``physics.options``; the model
-    and method names from the solvers' registry)."""
-    from ..api import METHODS, MODELS
-
-    choices = {"model": MODELS, "method": tuple(METHODS)}
-    for o in OPTIONS:
-        if o.scenes == "solve":
-            p.add_argument(o.flag, dest=o.name, type=o.kind, choices=choices.get(o.name),
-                           default=o.default, help=o.cli_help())
-
-
-def _scene_args(args) -> dict:
-    """The scene options the user gave (``physics.options``), refused where the indenter does not
-    take them (one line naming the option as typed)."""
-    given = {o.name: getattr(args, o.name) for o in OPTIONS
-             if o.cli and o.scenes != "solve" and getattr(args, o.name) is not None}
-    check_applies(given, given.get("indenter", "line"))
-    return given
 
 
 def _plural(n: int, word: str) -> str:
@@ -164,7 +133,7 @@ def _cmd_solve(args) -> int:
     from ..physics.scene import Scene
     from .files import Outputs, add_meta, check_outputs, check_plot_path, json_ready, to_json, write_csv
 
-    given = _scene_args(args)
+    given = scene_args(args)
     if given.pop("indenter", "line") != "line":
         return _cmd_solve3d(args, given)
     if args.maps is not None:
@@ -358,8 +327,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     p = sub.add_parser("solve", help="solve one scene (default: the paper's)")
-    _add_scene_options(p)
-    _add_solve_options(p)
+    add_scene_options(p)
+    add_solve_options(p)
     p.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
     p.add_argument("--profiles", metavar="FILE.csv", help="write the profiles (SI) as CSV")
     p.add_argument("--plot", metavar="FILE.png", help="plot pressure and base stresses (3D: maps)")
