@@ -30,17 +30,18 @@ def test_subnormal_and_extreme_values_are_one_line_exit_2(argv, tmp_path, capsys
 
 
 def test_extreme_parameter_names_a_subnormal_load():
-    with pytest.raises(InputError, match=r"load \(P_L\) = 4.94066e-324"):
+    with pytest.raises(InputError, match=r"load = 4.94066e-324"):
         Scene(load=5e-324)
 
 
 def test_a_law_without_its_parameters_is_refused(capsys):
-    with pytest.raises(InputError, match="--shear-strength"):
+    with pytest.raises(InputError, match="needs its parameters: shear_strength"):
         Scene(friction_law="linear")
-    with pytest.raises(InputError, match="--shear-strength"):
+    with pytest.raises(InputError, match="needs its parameters: shear_strength"):
         Scene3D(indenter="sphere", friction_law="linear")
     assert main(["solve", "--friction-law", "linear"]) == 2
-    assert "needs its parameters" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "--friction-law linear needs its parameters: --shear-strength" in err  # as typed
     Scene(friction_law="linear", shear_slope=1.0)  # one of them is a law (Amontons, mu = alpha)
     Scene(friction_law="linear", shear_strength=1e3)
 
@@ -112,3 +113,19 @@ def test_compliant_interface_estimate_covers_the_recorded_slow_edges():
     assert rigid < true < soft  # 2.8e-5 < 4.8e-5 < 9.4e-5
     r = solve(interface_compliance=1e-9, tol=1e-3)
     assert r.info["estimate_parts"]["previous_difference"] <= r.error_estimate
+
+
+def test_the_example_data_runs_as_readme_says(capsys):
+    """examples/: compare (integral estimates, no fit: fast) and calibrate recover the values
+    the synthetic files were made with."""
+    import json
+    from pathlib import Path
+
+    ex = Path(__file__).resolve().parent.parent / "examples"
+    assert main(["compare", str(ex / "synthetic_sliding_profile.csv"), "--no-fit", "--json"]) == 0
+    rec = json.loads(capsys.readouterr().out)
+    assert abs(rec["load_N_per_m"] / 200 - 1) < 0.02 and abs(rec["mu"] / 2 - 1) < 0.02
+    assert abs(rec["offset_m"] - 0.5e-3) < 0.02e-3
+    assert main(["calibrate", "--measured", str(ex / "synthetic_punch_scan.csv"), "--punch-load",
+                 "0.1", "--n-boot", "0", "--json"]) == 0
+    assert abs(json.loads(capsys.readouterr().out)["A_mV_per_bar"] / 19.0 - 1) < 0.01
