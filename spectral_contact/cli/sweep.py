@@ -72,9 +72,7 @@ def _check_spec_not_an_output(spec, out) -> None:
 
 
 def _cmd_sweep(args) -> int:
-    from ..sweep import OPTIONS, STATUSES, sweep
-
-    from ..sweep import WORKERS_PER_CORE, max_workers
+    from ..sweep import OPTIONS, STATUSES, WORKERS_PER_CORE, max_workers, sweep
 
     if args.workers is not None and not 1 <= args.workers <= max_workers():
         raise InputError(f"--workers must be in [1, {max_workers()}] ({WORKERS_PER_CORE} per "
