@@ -188,7 +188,7 @@ def _inputs(args) -> dict:
             "--apparatus-xz": getattr(args, "apparatus_xz", None)}
 
 
-def _summary_text3d(r) -> str:
+def _summary_text3d(r, sensor=None) -> str:
     s = r.summary()
     mm, kPa = 1e3, 1e-3
     extra = {"cylinder": f", length {s.get('length_m', 0) * mm:g} mm",
@@ -214,6 +214,15 @@ def _summary_text3d(r) -> str:
         f"{s['error_estimate']:.1e}, solve {s['wall_time_s'] * 1e3:.0f} ms "
         f"(+ planning {s['plan_time_s'] * 1e3:.0f} ms)",
     ]
+    if sensor is not None:  # the sensor peaks, as in the line summary (x, y of each peak)
+        import numpy as np
+
+        x, y = r.maps()["x_m"], r.maps()["y_m"]
+        for c in ("zz", "xz"):
+            S, U = sensor[f"S_{c}_Pa"], sensor[f"U_{c}_mV"]
+            i, j = np.unravel_index(int(np.argmax(np.abs(S))), S.shape)
+            lines.append(f"  sensor peak S_{c}         {S[i, j] * kPa:10.4f} kPa at ({x[i] * mm:.4f}, "
+                         f"{y[j] * mm:.4f}) mm   (U_{c} = {U[i, j]:.4f} mV)")
     if r.scene.indenter == "cylinder":
         lines.append("  (sharp ends: the peak pressure there grows with the resolution; it is "
                      "reported, not controlled by --tol)")
@@ -262,7 +271,7 @@ def _cmd_solve3d(args, given) -> int:
             from .plots import plot_maps
 
             plot_maps(r, outs.path(outputs["--plot"]), sensor=sensor)
-        outs.print(to_json(r.summary()) if args.json else _summary_text3d(r))
+        outs.print(to_json(r.summary()) if args.json else _summary_text3d(r, sensor))
     return 0
 
 
@@ -430,6 +439,9 @@ def _one_line_warnings(message, category, filename, lineno, file=None, line=None
     """Warnings are kept, one line each, and printed only if the command succeeds (a failing
     command prints its one error line and nothing else)."""
     text = "warning: " + " ".join(str(message).split())
+    option = getattr(message, "option", None)  # a physics.scene.UnitsWarning: the flag as typed
+    if option and text.startswith(f"warning: {option} "):
+        text = text.replace(option, "--" + option.replace("_", "-"), 1)
     if text not in _WARNINGS:
         _WARNINGS.append(text)
 

@@ -85,6 +85,34 @@ SHAPE_RATIO_MIN, SHAPE_RATIO_MAX = 1e-6, 1e6
 subnormal length divided by zero, a subnormal radius_x never converged."""
 
 
+SOFT_CONTACT_RANGES = {"young": (1e3, 1e9, "Pa"), "thickness": (1e-6, 0.1, "m"),
+                       "radius": (1e-6, 10.0, "m"), "length": (1e-5, 1.0, "m")}
+"""Soft-contact practice (elastomer films, gels, skin): E from 1 kPa to 1 GPa, films from 1 um
+to 10 cm, indenter radii from 1 um to 10 m, cylinder lengths from 10 um to 1 m.  A value
+outside is accepted (the model is scale-free) with one warning: it is most often a units slip
+(thickness=2 meant in mm, E in MPa)."""
+
+
+class UnitsWarning(UserWarning):
+    """A value outside ``SOFT_CONTACT_RANGES``; ``option`` is the parameter's Python name (the
+    command line names it as typed)."""
+
+    def __init__(self, message, option=None):
+        super().__init__(message)
+        self.option = option
+
+
+def _warn_units(scene) -> None:
+    import warnings
+
+    for name, (lo, hi, unit) in SOFT_CONTACT_RANGES.items():
+        v = getattr(scene, name, None)
+        if v is not None and not lo <= v <= hi:
+            warnings.warn(UnitsWarning(f"{name} = {v:g} {unit} is outside soft-contact practice "
+                                       f"[{lo:g}, {hi:g}] {unit}: is it in SI units?", name),
+                          stacklevel=4)
+
+
 def _check_law_scales(scene) -> None:
     """The friction law's stresses within LAW_SCALE_MAX of the stress unit (tau_0 may be 0)."""
     law, unit = scene.friction, scene.stress_unit
@@ -167,6 +195,7 @@ class Scene:
         self._check_scales()
         self._check_interface_law()
         _check_law_scales(self)
+        _warn_units(self)
 
     def extreme_parameter(self, names=("load", "young", "thickness", "radius")) -> str:
         """"name = value unit" of the parameter among ``names`` farthest (in decades) from the
@@ -399,6 +428,7 @@ class Scene3D:
                     f"{A_OVER_H_MIN_3D:g} ... {A_OVER_H_MAX_3D:g} (smaller: use model hertz)")
 
         _check_law_scales(self)
+        _warn_units(self)
         for name, ratio, what in (
                 ("length", self.length / self.thickness, "length / thickness"),
                 ("radius_x", self.radius_x / self.radius, "radius_x / radius"),
