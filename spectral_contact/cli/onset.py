@@ -35,7 +35,7 @@ _NOTES = {
 def register(subparsers) -> None:
     """Add ``onset`` to the main parser's subcommands."""
     from ..solvers.onset import DEFAULT_TOL, LOADINGS, MAX_STEPS
-    from .main import _add_scene_options
+    from .scene_options import add_scene_options
 
     p = subparsers.add_parser(
         "onset", help="partial slip: the tangential load raised from 0 to mu P (line indenter)",
@@ -43,7 +43,7 @@ def register(subparsers) -> None:
                     "tangential load Q raised from 0 to mu P in --steps equal steps, "
                     "quasi-static, with the slip history kept (incremental Coulomb friction). "
                     "The last step is gross sliding: solve's steady state.")
-    _add_scene_options(p)
+    add_scene_options(p)
     p.add_argument("--steps", type=int, default=20,
                    help=f"N, tangential steps: Q/(mu P) = 1/N, ..., 1 (1 ... {MAX_STEPS}; "
                         "default 20)")
@@ -108,7 +108,7 @@ def _text(r) -> str:
 
 
 def _cmd_onset(args) -> int:
-    from ..physics.scene import PAPER_SCENE, Scene
+    from ..physics.scene import Scene
     from ..solvers.onset import MAX_STEPS, onset
     from .files import Outputs, add_meta, check_outputs, check_plot_path, to_json, write_csv
 
@@ -117,29 +117,28 @@ def _cmd_onset(args) -> int:
     if not 1 <= args.loading_steps <= MAX_STEPS:
         raise InputError(f"--loading-steps must be an integer in [1, {MAX_STEPS}]; got "
                          f"{args.loading_steps}")
-    if args.indenter != "line":
-        raise InputError(f"--indenter {args.indenter}: onset is implemented for the line "
+    from .scene_options import scene_args
+
+    given = scene_args(args)  # the options the user gave, checked against the indenter
+    indenter = given.pop("indenter", "line")
+    if indenter != "line":
+        raise InputError(f"--indenter {indenter}: onset is implemented for the line "
                          f"indenter only (spheres: not yet)")
-    for opt in ("force", "length", "radius_x", "radius_y"):
-        if getattr(args, opt) is not None:
-            raise InputError(f"--{opt.replace('_', '-')} is for 3D indenters; onset takes the "
-                             f"line indenter (--load [N/m])")
-    if args.friction_law != "amontons":
-        raise InputError(f"--friction-law {args.friction_law}: onset takes amontons only "
+    law = given.get("friction_law", "amontons")
+    if law != "amontons":
+        raise InputError(f"--friction-law {law}: onset takes amontons only "
                          f"(Coulomb's |q| <= mu p)")
     for opt in ("friction_exponent", "friction_pref", "shear_strength", "shear_slope",
                 "interface_pressure", "interface_length"):
-        if getattr(args, opt) is not None:
+        if opt in given:
             raise InputError(f"--{opt.replace('_', '-')}: onset takes Amontons friction on a "
                              f"rigid interface only")
-    if args.interface_compliance or args.interface_law != "linear":
+    if given.get("interface_compliance") or given.get("interface_law", "linear") != "linear":
         raise InputError("--interface-compliance/--interface-law: onset takes a rigid interface "
                          "only")
-    if args.mu == 0:
+    scene = Scene(**given)
+    if scene.mu == 0:
         raise InputError("--mu must be != 0 for onset (the tangential load goes up to mu P)")
-    scene = Scene(load=PAPER_SCENE.load if args.load is None else args.load, mu=args.mu,
-                  young=args.young, radius=args.radius, thickness=args.thickness,
-                  poisson=args.poisson)
     outputs = check_outputs(**{"--profiles": args.profiles, "--plot": args.plot})
     if args.plot is not None:
         check_plot_path(args.plot)
