@@ -223,7 +223,6 @@ def _plot_stick(rows, path):
                      label=f"a_H/h = {s:g}")
         axes[2].plot(q, [r["tangent_stiffness_rel"] for r in sel], "o-", ms=3,
                      label=f"a_H/h = {s:g}")
-    axes[2].plot(qs, np.sqrt(1 - qs), "k--", lw=1, label="sqrt(1 - Q/muP)")
     axes[0].set_ylabel("stick half-width c / a")
     axes[1].set_ylabel("stick-zone centre - contact centre, over a")
     axes[2].set_ylabel("tangent stiffness dQ/d(delta), over the first step's")
