@@ -188,7 +188,14 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         # weight of each load row: its right-hand side as large as the whole gap block's, so
         # GMRES's 2-norm stopping test controls the load as tightly as the gap
         fi = f[sel]
-        gap_norm = max(math.sqrt(float(fi @ fi)), 1e-300)  # np.linalg.norm's operations
+        gap_norm = math.sqrt(float(fi @ fi))  # np.linalg.norm's operations
+        if gap_norm < 1e-150:
+            # heights all zero on the set (one node at a smooth apex: a contact smaller than
+            # a cell): the load row weighted as the sinking it causes, ~ load / cell^(1 - 1/d)
+            # (a weight of 1e-300 let GMRES ignore the load: "residual 1.00e+00 after 1
+            # active-set and 1 GMRES iterations", issue 24)
+            gap_norm = max(float(np.abs(loads).max()) * cell ** (1.0 / ndim - 1.0)
+                           * math.sqrt(max(ni, 1)), 1e-300)
         # preconditioner: inverse symbol clipped below the lowest mode the largest contact holds
         if M == 1 and ndim == 1:  # the same floating-point operations on Python floats
             wload = np.array([gap_norm / loads[0] if loaded[0] else 1.0])
