@@ -490,15 +490,20 @@ def nested_guess(coarse: ContactSolution, grid: Grid) -> np.ndarray:
         lines = np.flatnonzero(a2.any(axis=0))
         if lines.size < 2 or lines[-1] - lines[0] + 1 != lines.size:
             continue  # a contact across the period or in pieces: the other direction's
-        c = np.empty(lines.size)
-        w2 = np.empty(lines.size)
+        c = np.zeros(lines.size)
+        w2 = np.zeros(lines.size)
+        one = np.ones(lines.size)  # lines holding one run (a chord)
         for i, j in enumerate(lines):
             runs = fit_edges(coord, d, g2[:, j], p2[:, j], a2[:, j])
-            lo, hi = min(r[0] for r in runs), max(r[1] for r in runs)
+            if len(runs) > 1:  # (e.g. columns through a finite cylinder's two wider ends:
+                one[i] = 0.0   # left to the rows; their span as one chord cost it 5 steps)
+                continue
+            lo, hi = runs[0]
             c[i], w2[i] = 0.5 * (lo + hi), (0.5 * (hi - lo)) ** 2
         fine_across = grid.axes[other]
         t = across[lines]
         ok = (fine_across >= t[0]) & (fine_across <= t[-1])
+        ok[ok] = np.interp(fine_across[ok], t, one) == 1.0  # between two chords
         cf = np.interp(fine_across[ok], t, c)
         wf = np.sqrt(np.interp(fine_across[ok], t, w2)) + _EDGE_REACH_2D * grid.spacing[axis]
         fine = grid.axes[axis]
