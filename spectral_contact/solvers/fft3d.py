@@ -66,6 +66,11 @@ _BYTES_PER_CONTACT_NODE = 8 * 130  # GMRES: restart 60 -> 2 x 61 vectors of the 
 _OPEN_ABOVE = 512  # a periodic locator that needs more points per axis than this (contacts
 # below a/h ~ 0.25 at tol 1e-3): the contact is solved on an open box instead (_solve_open)
 _LOCATOR_RTOL, _LOCATOR_ACCEPT, _LOCATOR_SEARCH_RTOL = 1e-6, 1e-3, 1e-2  # as the line solver's
+_END_ASPECT = 2.0  # the finite cylinder's cells: dx = this x dy (issue 25).  Measured on the
+# paper's slide (default tol 1e-2, its automatic periods): at ny = 1024 the indentation and the
+# line load at y = 0 move by 1e-5 and 3e-5 between nx = 256 and 1024 (between ny = 512 and
+# 1024: 3.9e-3 and 5.3e-3), the contact radius by 1.3e-3; levels (256, 512) -> (512, 1024)
+# differ as (512, 512) -> (1024, 1024) do (3.9e-3 vs 3.8e-3 on the indentation)
 _OPEN_MARGIN = 1.5  # the open solve's estimate: this times the last two levels' difference
 _FAR_CELLS = 12    # the base fields of an open solve: a periodic grid of cells h / this (the
 # base transfer decays as exp(-|k| h): e^-37 at its Nyquist wavenumber)
@@ -243,7 +248,10 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
         levels = [tuple(n // 2 for n in grid_points), grid_points]
     else:
         d1 = min(width_x, width_y) / _FIRST_ACROSS
-        n1 = tuple(pow2_at_least(Li / d1, MIN_POINTS_3D) for Li in L)
+        # sharp ends (finite cylinder): cells _END_ASPECT times longer across the cylinder
+        # (x) than along it: the ends' singularity sets the error, through the cells along y
+        stretch = (_END_ASPECT, 1.0) if ind.singular_peak else (1.0, 1.0)
+        n1 = tuple(pow2_at_least(Li / (d1 * a), MIN_POINTS_3D) for Li, a in zip(L, stretch))
         levels = [n1]
         while max(levels[-1]) < MAX_POINTS_3D:
             levels.append(tuple(2 * n for n in levels[-1]))
