@@ -109,6 +109,7 @@ class ContactSolution:
     history: list = field(default_factory=list)
     coarse_iterations: int = 0         # active-set iterations of the nested start's coarser grids
     coarse_krylov_iterations: int = 0  # and their GMRES iterations (their FFT pairs are in fft_pairs)
+    coarse_fft_pairs: int = 0          # the part of fft_pairs spent on the coarser grids
 
 
 @lru_cache(maxsize=32)
@@ -536,6 +537,7 @@ def _nested_start(grid: Grid, mu: float, indenters, film: Film, floor: int, opti
     # error at the edge nodes; measured against rtol 1e-14 solves at 2^16-2^20)
     sol = solve_contact(grid, mu, indenters, film=film, p_init=p0, **options)
     sol.fft_pairs += coarse.fft_pairs
+    sol.coarse_fft_pairs = coarse.fft_pairs
     sol.coarse_iterations = coarse.iterations + coarse.coarse_iterations
     sol.coarse_krylov_iterations = coarse.krylov_iterations + coarse.coarse_krylov_iterations
     return sol
