@@ -9,16 +9,17 @@ Front door: ``solve(...) -> ContactResult`` (``ContactResult3D`` for a 3D indent
 ``[sweep]``): imported on first use, so ``import spectral_contact`` imports neither pandas nor
 dask.distributed.
 """
+from ._version import __version__
 from .api import METHODS, MODELS, solve
 from .errors import ConvergenceError, InputError, SpectralContactError
 from .physics.scene import PAPER_SCENE, Scene, Scene3D
 from .result import ContactResult, ContactResult3D
+from .solvers.onset import OnsetResult, onset  # noqa: F401 (issue 22: the onset of sliding)
 
 __all__ = ["solve", "Scene", "Scene3D", "PAPER_SCENE", "ContactResult", "ContactResult3D",
            "InputError", "ConvergenceError",
            "SpectralContactError", "METHODS", "MODELS", "sensor", "SensorView", "sweep",
            "__version__"]
-__version__ = "0.1.0"
 
 _LAZY = {"sensor": "spectral_contact.instruments.mems_view",
          "SensorView": "spectral_contact.instruments.mems_view"}

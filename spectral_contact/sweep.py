@@ -68,7 +68,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import ConvergenceError, InputError
-from .physics.scene import PAPER_SCENE
+from .physics import options as _table
 
 __all__ = ["sweep", "OPTIONS", "TIMING_COLUMNS", "STATUSES", "parse_values", "read_spec",
            "scenes", "scene_key", "solve_row", "table_columns", "connect_scheduler", "local_client",
@@ -78,31 +78,23 @@ STATUSES = ("ok", "input_error", "not_converged", "crashed")
 TIMING_COLUMNS = ("wall_time_s", "plan_time_s")
 EXTRA = "pip install 'spectral_contact[sweep]'"
 
-# name -> (type, default, unit or choices, help); the order is the column order.  A default of
-# None is filled per indenter by ``scenes`` (``_fill``) or left to ``solve``.
-OPTIONS = {
-    "indenter": (str, "line", ("line", "sphere", "cylinder", "paraboloid"),
-                 "line (plane strain, --load) or a 3D indenter (--force)"),
-    "load": (float, None, "N/m", f"P_L, lineic load, line only (default {PAPER_SCENE.load:g})"),
-    "force": (float, None, "N", "F, normal force, 3D indenters only (default 1)"),
-    "mu": (float, PAPER_SCENE.mu, "", "mu_d, friction coefficient (signed)"),
-    "young": (float, PAPER_SCENE.young, "Pa", "E, Young's modulus"),
-    "radius": (float, PAPER_SCENE.radius, "m", "R, cylinder/sphere radius"),
-    "thickness": (float, PAPER_SCENE.thickness, "m", "h, film thickness"),
-    "length": (float, None, "m", "3D cylinder length along y (solve's default 0.008)"),
-    "radius_x": (float, None, "m", "paraboloid radius along x (default --radius)"),
-    "radius_y": (float, None, "m", "paraboloid radius along y (default --radius)"),
-    "model": (str, "exact", ("exact", "goodman", "hertz", "auto"), "model"),
-    "method": (str, "fft", ("fft", "abel"), "method"),
-    "tol": (float, None, "", "relative accuracy target in (0, 0.1) (line: 1e-4; 3D: solve's "
-                             "default, 1e-3, cylinder 1e-2)"),
-    "grid_points": (int, None, "", "fixed N (grid points per axis, or Abel nodes)"),
-    "domain_length": (float, None, "m", "fixed FFT period L (per axis in 3D)"),
-}
-_SCENE_KEYS = ("indenter", "load", "force", "mu", "young", "radius", "thickness", "length",
-               "radius_x", "radius_y")
-_LINE_DEFAULTS = {"load": PAPER_SCENE.load, "tol": 1e-4}
-_3D_DEFAULTS = {"force": 1.0}
+def _options() -> dict:
+    """name -> (type, default, unit or choices, help) of the options with ``sweep=True`` in the
+    one declaration (``physics.options``), in its order (the column order).  A scene option
+    that only one kind of indenter takes defaults to None here: filled per indenter by ``scenes``
+    (``_fill``: a line's load, a 3D indenter's force) or left to ``solve``."""
+    out = {}
+    for o in _table.OPTIONS:
+        if o.sweep:
+            d = o.default if o.scenes in ("both", "solve") else None
+            out[o.name] = (o.kind, d, o.choices if o.kind is str else o.unit, o.cli_help())
+    return out
+
+
+OPTIONS = _options()
+_SCENE_KEYS = tuple(k for k in OPTIONS if _table.option(k).scenes != "solve")
+_LINE_DEFAULTS = {"load": _table.default("load"), "tol": 1e-4}
+_3D_DEFAULTS = {"force": _table.default("force")}
 
 
 def _fill(p: dict) -> dict:
@@ -229,7 +221,7 @@ def scenes(options: dict) -> list[dict]:
 
 
 def _version() -> str:
-    from . import __version__
+    from ._version import __version__
 
     return __version__
 
@@ -465,7 +457,7 @@ def connect_scheduler(address: str, timeout: float = 10.0):
 
 def _worker_version():
     try:
-        from spectral_contact import __version__
+        from spectral_contact._version import __version__
     except Exception as exc:  # noqa: BLE001 -- reported to the client as the reason
         return f"cannot import spectral_contact ({type(exc).__name__}: {exc})"
     return __version__

@@ -15,63 +15,25 @@ import sys
 import threading
 
 from ..errors import ConvergenceError, InputError, SpectralContactError
-from ..physics.scene import PAPER_SCENE
 from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR
 from . import files as _files
+from .scene_options import add_scene_options, add_solve_options, scene_args
 
 __all__ = ["main", "build_parser"]
 
-# modules that add subcommands: each exposes register(subparsers)
-_PLUGINS = ("spectral_contact.cli.mems", "spectral_contact.cli.sweep")
+
+
+def _plugins():
+    """The subcommands' modules beside ``solve`` and ``study``: each exposes register(subparsers)
+    (a new subcommand: its module in cli/ and one line here)."""
+    from . import mems, onset, sweep
+
+    return (mems.register, sweep.register, onset.register)
 
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # one line, exit status 2
         raise InputError(f"{self.prog}: {message}")
-
-
-def _add_scene_options(p):
-    d = PAPER_SCENE
-    p.add_argument("--indenter", choices=("line", "sphere", "cylinder", "paraboloid"), default="line",
-                   help="line: the plane-strain cylinder of the paper (--load, N/m); sphere, "
-                        "cylinder (finite length along y, sharp ends), paraboloid (--radius-x, "
-                        "--radius-y): 3D, pressed with --force [N] (default line)")
-    p.add_argument("--load", type=float, default=None,
-                   help=f"P_L, lineic load [N/m], line indenter only (default {d.load:g})")
-    p.add_argument("--force", type=float, default=None,
-                   help="F, total normal force [N], 3D indenters only (default 1)")
-    p.add_argument("--length", type=float, default=None,
-                   help="cylinder length along y [m] (default 0.008: the paper's cover slide)")
-    p.add_argument("--radius-x", type=float, default=None,
-                   help="paraboloid radius along x, the sliding direction [m] (default --radius)")
-    p.add_argument("--radius-y", type=float, default=None,
-                   help="paraboloid radius along y [m] (default --radius)")
-    p.add_argument("--mu", type=float, default=d.mu,
-                   help=f"mu_d, friction coefficient, signed: < 0 slides toward -x (default {d.mu:g})")
-    p.add_argument("--young", type=float, default=d.young, help=f"E [Pa] (default {d.young:g})")
-    p.add_argument("--radius", type=float, default=d.radius, help=f"R [m] (default {d.radius:g})")
-    p.add_argument("--thickness", type=float, default=d.thickness, help=f"h [m] (default {d.thickness:g})")
-    p.add_argument("--poisson", type=float, default=d.poisson,
-                   help=f"nu, the film's Poisson ratio in [0, 0.5] (default {d.poisson:g}: "
-                        "incompressible; < 0.5 needs --method fft)")
-    p.add_argument("--friction-law", choices=("amontons", "power", "linear"), default="amontons",
-                   help="amontons: q = mu p (default); power: q = mu (p/p_ref)^-n p; "
-                        "linear: q = tau_0 + alpha p in the contact (--method fft)")
-    p.add_argument("--friction-exponent", type=float, default=None,
-                   help="n of the power law, in [0, 1) (default 0)")
-    p.add_argument("--friction-pref", type=float, default=None, help="p_ref of the power law [Pa], > 0")
-    p.add_argument("--shear-strength", type=float, default=None,
-                   help="tau_0 of the linear law [Pa] (same sign as --shear-slope)")
-    p.add_argument("--shear-slope", type=float, default=None, help="alpha of the linear law")
-    p.add_argument("--interface-compliance", type=float, default=0.0,
-                   help="C [m/Pa] >= 0: the interface closes by C p (default 0: rigid; --method fft)")
-    p.add_argument("--interface-law", choices=("linear", "exponential"), default="linear",
-                   help="linear: --interface-compliance (default); exponential: p = p0 exp(-g/lambda) "
-                        "at an interface gap g (soft edges; --method fft, Amontons friction)")
-    p.add_argument("--interface-pressure", type=float, default=None,
-                   help="p0 of the exponential interface law [Pa], > 0")
-    p.add_argument("--interface-length", type=float, default=None,
-                   help="lambda of the exponential interface law [m], > 0")
 
 
 def _plural(n: int, word: str) -> str:
@@ -158,19 +120,13 @@ def _cmd_solve(args) -> int:
     from ..physics.scene import Scene
     from .files import Outputs, add_meta, check_outputs, check_plot_path, json_ready, to_json, write_csv
 
-    if args.indenter != "line":
-        return _cmd_solve3d(args)
-    for opt in ("force", "length", "radius_x", "radius_y", "maps"):
-        if getattr(args, opt) is not None:
-            raise InputError(f"--{opt.replace('_', '-')} is for 3D indenters (--indenter sphere, "
-                             f"cylinder, paraboloid); the line indenter takes --load [N/m]")
-    scene = Scene(load=PAPER_SCENE.load if args.load is None else args.load, mu=args.mu,
-                  young=args.young, radius=args.radius, thickness=args.thickness,
-                  poisson=args.poisson, friction_law=args.friction_law,
-                  friction_exponent=args.friction_exponent, friction_pref=args.friction_pref,
-                  shear_strength=args.shear_strength, shear_slope=args.shear_slope,
-                  interface_compliance=args.interface_compliance, interface_law=args.interface_law,
-                  interface_pressure=args.interface_pressure, interface_length=args.interface_length)
+    given = scene_args(args)
+    if given.pop("indenter", "line") != "line":
+        return _cmd_solve3d(args, given)
+    if args.maps is not None:
+        raise InputError("--maps is for 3D indenters (--indenter sphere, cylinder, paraboloid); "
+                         "the line indenter takes --profiles")
+    scene = Scene(**given)
     outputs = check_outputs(**{"--profiles": args.profiles, "--plot": args.plot})
     if args.plot is not None:
         check_plot_path(args.plot)
@@ -245,36 +201,16 @@ def _summary_text3d(r) -> str:
     return "\n".join(lines)
 
 
-def _cmd_solve3d(args) -> int:
+def _cmd_solve3d(args, given) -> int:
     import numpy as np
 
     from ..api import solve
     from ..physics.scene import Scene3D
     from .files import Outputs, check_outputs, check_plot_path, to_json, write_csv
 
-    if args.load is not None:
-        raise InputError(f"--load [N/m] is for the line indenter; --indenter {args.indenter} takes "
-                         f"--force [N]")
     if args.method != "fft":
         raise InputError(f"--method {args.method} is for the line indenter; 3D indenters use fft")
-    # issue 14: --poisson, the friction laws and the linear interface work in 3D; the
-    # exponential interface law is line-only
-    for opt, default in (("interface_law", "linear"), ("interface_pressure", None),
-                         ("interface_length", None)):
-        if getattr(args, opt) != default:
-            raise InputError(f"--{opt.replace('_', '-')} applies to the line indenter only (3D "
-                             f"indenters: the linear --interface-compliance)")
-    for opt, kind in (("length", "cylinder"), ("radius_x", "paraboloid"), ("radius_y", "paraboloid")):
-        if getattr(args, opt) is not None and args.indenter != kind:
-            raise InputError(f"--{opt.replace('_', '-')} applies to --indenter {kind} only")
-    kw = {"length": args.length} if args.length is not None else {}
-    scene = Scene3D(indenter=args.indenter, force=1.0 if args.force is None else args.force,
-                    mu=args.mu, young=args.young, radius=args.radius, thickness=args.thickness,
-                    radius_x=args.radius_x, radius_y=args.radius_y, poisson=args.poisson,
-                    friction_law=args.friction_law, friction_exponent=args.friction_exponent,
-                    friction_pref=args.friction_pref, shear_strength=args.shear_strength,
-                    shear_slope=args.shear_slope, interface_compliance=args.interface_compliance,
-                    **kw)
+    scene = Scene3D(indenter=args.indenter, **given)
     outputs = check_outputs(**{"--profiles": args.profiles, "--plot": args.plot,
                                "--maps": args.maps})
     if args.plot is not None:
@@ -362,7 +298,7 @@ def _study_lines() -> str:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from .. import __version__
+    from .._version import __version__
 
     parser = _Parser(prog="spectral-contact",
                      description="A rigid indenter (line, sphere, finite cylinder, paraboloid) "
@@ -371,24 +307,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     p = sub.add_parser("solve", help="solve one scene (default: the paper's)")
-    _add_scene_options(p)
-    p.add_argument("--model", choices=("exact", "goodman", "hertz", "auto"), default="exact",
-                   help="exact: the paper's model, friction coupled into the contact (default); "
-                        "goodman: frictionless pressure and window, friction loads the base only; "
-                        "hertz: half-space Hertz pressure put on the film (closed form; 3D: "
-                        "sphere only); auto (line only): the cheapest of the three whose error "
-                        "bound is below --tol")
-    p.add_argument("--method", choices=("fft", "abel"), default="fft",
-                   help="fft: spectral solver on a periodic grid (default); abel: the paper's "
-                        "Abel/Fredholm formulation, an independent check (line indenter only)")
-    p.add_argument("--tol", type=float, default=None,
-                   help="relative accuracy target, in (0, 0.1) (default 1e-4 for the line "
-                        "indenter; 1e-3 in 3D, 1e-2 for the finite cylinder: its sharp ends "
-                        "converge at first order)")
-    p.add_argument("--grid-points", type=int, default=None,
-                   help="fix N instead of choosing it from --tol (3D: points per axis)")
-    p.add_argument("--domain-length", type=float, default=None,
-                   help="fix the FFT period L [m] (3D: both axes)")
+    add_scene_options(p)
+    add_solve_options(p)
     p.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
     p.add_argument("--profiles", metavar="FILE.csv", help="write the profiles (SI) as CSV")
     p.add_argument("--plot", metavar="FILE.png", help="plot pressure and base stresses (3D: maps)")
@@ -422,14 +342,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "the cores; with --quick: this process)")
     g.add_argument("--serial", action="store_true", help="studies that sweep: run in this process")
     p.set_defaults(func=_cmd_study)
-    for name in _PLUGINS:
-        try:
-            mod = importlib.import_module(name)
-        except ModuleNotFoundError as exc:
-            if exc.name != name:
-                raise
-            continue
-        mod.register(sub)
+    for register in _plugins():
+        register(sub)
     return parser
 
 
@@ -535,7 +449,8 @@ def main(argv=None) -> int:
     except BrokenPipeError:  # the reader went away (`| head`): end quietly
         return _closed_pipe()
     except InputError as exc:
-        print(f"error: {as_options(_first_line(exc), options)}", file=sys.stderr)
+        print(f"error: {as_options(_first_line(_as_typed(exc, options)), options)}",
+              file=sys.stderr)
         return 2
     except ConvergenceError as exc:
         print(f"not converged: {as_options(_first_line(exc), options)}", file=sys.stderr)
@@ -577,6 +492,16 @@ def _written() -> str:
     if not done:
         return "no output written"
     return "outputs were complete before the signal and kept: " + ", ".join(map(str, done))
+
+
+def _as_typed(exc: InputError, options) -> str:
+    """The message with the options it names (``errors.named``) as the command's flags, where
+    the command has that flag (else the Python name: a value the command computed)."""
+    def name_of(name):
+        flag = "--" + name.replace("_", "-")
+        return flag if options is None or flag in options else name
+
+    return exc.as_typed(name_of)
 
 
 def _first_line(exc) -> str:

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..physics.options import option
 from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR
 from .files import Outputs, add_meta, check_outputs, check_plot_path, to_json
 
@@ -93,6 +94,15 @@ _PLANE_MAX = 4096  # side of the punch's plane grid: ~117 bytes per point (trace
 _PLANE_BYTES = 117
 
 
+def _scene_options(p, names, more=None) -> None:
+    """Scene options from the one declaration (``physics.options``): flag, default, help; the
+    values are checked once, by the scene (or ``options.option(name).check``)."""
+    for name in names:
+        o = option(name)
+        text = o.cli_help() + (f"; {more[name]}" if more and name in more else "")
+        p.add_argument(o.flag, dest=o.name, type=o.kind, default=o.default, help=text)
+
+
 def register(subparsers) -> None:
     """Add ``compare`` and ``calibrate`` to an argparse subparsers object."""
     p = subparsers.add_parser(
@@ -104,12 +114,8 @@ def register(subparsers) -> None:
                     "chi per component and AIC (JSON 'fits', keyed by model; 'best_model').")
     p.add_argument("measured", metavar="MEASURED.csv",
                    help="columns x_m,S_zz_Pa,S_xz_Pa or x_m,U_zz_mV,U_xz_mV (uniform x)")
-    p.add_argument("--young", type=_positive("--young"), default=2.2e6, help="E [Pa] (2.2e6)")
-    p.add_argument("--radius", type=_positive("--radius"), default=0.130, help="R [m] (0.130)")
-    p.add_argument("--thickness", type=_positive("--thickness"), default=0.002,
-                   help="h [m] (0.002)")
-    p.add_argument("--poisson", type=float, default=0.5,
-                   help="nu of the models' film, in [0, 0.5] (0.5); --fit-poisson starts there")
+    _scene_options(p, ("young", "radius", "thickness", "poisson"),
+                   {"poisson": "--fit-poisson starts there"})
     p.add_argument("--a-zz", type=_positive("--a-zz"), default=A_ZZ_MV_PER_BAR,
                    help=f"A_zz [mV/bar] for U files ({A_ZZ_MV_PER_BAR:.2f})")
     p.add_argument("--a-xz", type=_positive("--a-xz"), default=A_XZ_MV_PER_BAR,
@@ -118,7 +124,8 @@ def register(subparsers) -> None:
                    help="radial G_zz (columns r_m, G or G_per_m2) instead of the paper's")
     p.add_argument("--apparatus-xz", metavar="G.csv", default=None,
                    help="radial G_xz instead of the paper's")
-    p.add_argument("--tol", type=float, default=1e-4, help="solver tolerance, in [1e-14, 0.1) (1e-4)")
+    p.add_argument("--tol", type=float, default=1e-4,
+                   help=f"{option('tol').what}, {option('tol').accepted()} (default 1e-4)")
     p.add_argument("--no-fit", action="store_true", help="skip the direct fits of P_L, mu_d")
     p.add_argument("--fit-poisson", action="store_true",
                    help="also fit the exact model with the film's Poisson ratio free (in [0, 0.5]):"
@@ -143,8 +150,7 @@ def register(subparsers) -> None:
                    help="rod load P [N] of the scan, to compute sigma (no --computed)")
     p.add_argument("--punch-radius", type=_positive("--punch-radius"), default=250e-6,
                    help="rod radius [m] (250e-6)")
-    p.add_argument("--thickness", type=_positive("--thickness"), default=0.002,
-                   help="film thickness h [m] (0.002)")
+    _scene_options(p, ("thickness",))
     p.add_argument("--component", choices=("zz", "xz"), default="zz",
                    help="zz: normal channel (U_zz, S_zz); xz: shear channel (U_xz, S_xz) "
                         "(default zz)")
@@ -178,16 +184,16 @@ def _cmd_compare(args) -> int:
     from ..api import check_tol
     from ..instruments.compare import FIT_KEYS, compare_models, fit_model, integral_estimates
     from ..instruments.measured_io import read_measured_profile
-    from ..physics.scene import Scene, check_poisson
+    from ..physics.scene import Scene
 
     tol = check_tol(args.tol)
-    check_poisson(args.poisson)
+    Scene(young=args.young, radius=args.radius, thickness=args.thickness,
+          poisson=args.poisson)  # names the option as typed
     outputs = check_outputs(**{"--plot": args.plot})
     plot = check_plot_path(args.plot) if args.plot is not None else None
     prof = read_measured_profile(args.measured)
     apparatus = _apparatus(args)
     Szz, Sxz = prof.stresses(args.a_zz, args.a_xz)
-    Scene(young=args.young, radius=args.radius, thickness=args.thickness)  # names the option
     P, mu = integral_estimates(prof.x_m, Szz, Sxz)
     try:
         scene = Scene(load=P, mu=mu, young=args.young, radius=args.radius,
@@ -360,7 +366,7 @@ def _cmd_calibrate(args) -> int:
     elif args.punch_load:
         from ..instruments.axisym import flat_punch_base_stresses
 
-        dr, r_max, h = float(r[1] - r[0]), float(r[-1]), args.thickness
+        dr, r_max, h = float(r[1] - r[0]), float(r[-1]), option("thickness").check(args.thickness)
         if args.punch_radius >= r_max:
             raise InputError(f"calibrate: --punch-radius {args.punch_radius:g} m must be below the "
                              f"scan's reach r_max = {r_max:g} m ({args.measured}): the scan must "
@@ -370,12 +376,18 @@ def _cmd_calibrate(args) -> int:
         n = 2.0 * (r_max + 16.0 * h) / dr
         if not n <= _PLANE_MAX:
             gb = n * n * _PLANE_BYTES / 1e9 if math.isfinite(n) else math.inf
-            blame = (f"--thickness {h:g} m" if 16.0 * h > r_max else
-                     f"{args.measured} (step dr = {dr:g} m over r_max = {r_max:g} m)")
+            h_max = (_PLANE_MAX * dr / 2 - r_max) / 16
+            if h_max > 0:  # a thinner film would do
+                blame = (f"--thickness {h:g} m" if 16.0 * h > r_max else
+                         f"{args.measured} (step dr = {dr:g} m over r_max = {r_max:g} m)")
+                hint = f"the film thickness must be <= {h_max:.3g} m for this step"
+            else:  # the scan alone is too fine for the grid, whatever the film
+                blame = f"{args.measured} (step dr = {dr:g} m over r_max = {r_max:g} m)"
+                hint = (f"the scan's step must be >= {2 * (r_max + 16 * h) / _PLANE_MAX:.3g} m "
+                        f"(resample it)")
             raise InputError(f"calibrate: {blame} needs a plane grid of {n:.3g}^2 points "
-                             f"(~{gb:.3g} GB): at most {_PLANE_MAX}^2; the film thickness "
-                             f"must be <= {(_PLANE_MAX * dr / 2 - r_max) / 16:.3g} m for this step")
-        b = flat_punch_base_stresses(args.punch_load, args.punch_radius, args.thickness,
+                             f"(~{gb:.3g} GB): at most {_PLANE_MAX}^2; {hint}")
+        b = flat_punch_base_stresses(args.punch_load, args.punch_radius, h,
                                      dx_m=float(r[1] - r[0]), r_max_m=float(r[-1]))
         S = -b["sigma_zz_Pa"] if comp == "zz" else b["sigma_xz_Pa"]
         S = S[:r.size]

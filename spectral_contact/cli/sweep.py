@@ -29,13 +29,10 @@ def register(subparsers) -> None:
                     "(stop included), SI units; a negative first value needs '=' (--mu=-1,1). "
                     "Writes OUT/summary.csv (+ .parquet with pyarrow) and stores each scene in "
                     "OUT/scenes/ as it finishes: rerunning solves only what is missing.")
-    for name, (_kind, default, unit, text) in OPTIONS.items():
-        if isinstance(unit, tuple):
-            h = f"{text}: {','.join(unit)} (default {default})"
-        else:
-            d = "chosen from --tol" if default is None else f"{default:g}"
-            h = f"{text}{f' [{unit}]' if unit else ''} (default {d})"
-        p.add_argument(f"--{name.replace('_', '-')}", dest=name, metavar="VALUES", default=None, help=h)
+    for name, (_kind, _default, unit, text) in OPTIONS.items():  # physics.options' help
+        h = f"{','.join(unit)}: {text}" if isinstance(unit, tuple) else text
+        p.add_argument(f"--{name.replace('_', '-')}", dest=name, metavar="VALUES", default=None,
+                       help=h)
     p.add_argument("--spec", metavar="FILE.toml", default=None,
                    help="options in a TOML file (option = value, list or \"start:stop:step\"); "
                         "options on the command line override it")

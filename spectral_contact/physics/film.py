@@ -37,6 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .options import option
 from .transfer import (
     F2,
     compressible_decay_rate,
@@ -87,9 +88,7 @@ class Film:
     poisson: float = 0.5
 
     def __post_init__(self):
-        from .scene import check_poisson
-
-        object.__setattr__(self, "poisson", check_poisson(self.poisson))
+        object.__setattr__(self, "poisson", option("poisson").check(self.poisson))
 
     @property
     def incompressible(self) -> bool:

@@ -21,15 +21,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, named
+from . import options as _options
 from .friction import FrictionLaw
+from .options import INDENTERS_3D, MU_MAX, TOL_MIN, default
 
 __all__ = ["Scene", "Scene3D", "INDENTERS_3D", "PAPER_SCENE", "check_finite", "check_positive",
            "check_tol", "check_poisson", "MU_MAX", "A_OVER_H_MAX", "TOL_MIN"]
 
 
 def check_finite(name: str, value, accepted: str) -> float:
-    """A real number (int, float, numpy scalar; not bool, str or bytes), finite as a float."""
+    """A real number (int, float, numpy scalar; not bool, str or bytes), finite as a float.
+    ``name``, if a Python name, is marked (``errors.named``): the command line says its flag."""
+    name = named(name) if name.isidentifier() else name
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise InputError(f"{name} must be a number ({accepted}); got {_short(value)}")
     try:
@@ -50,39 +54,26 @@ def _short(value, n: int = 40) -> str:
 def check_positive(name: str, value, unit: str) -> float:
     v = check_finite(name, value, f"> 0 {unit}".strip())
     if v <= 0.0:
+        name = named(name) if name.isidentifier() else name
         raise InputError(f"{name} must be > 0 {unit}; got {v}".replace("  ", " "))
     return v
 
 
 def check_poisson(nu) -> float:
-    """A Poisson ratio in [0, 0.5] (0.5: incompressible)."""
-    v = check_finite("poisson (nu)", nu, "in [0, 0.5]")
-    if not 0.0 <= v <= 0.5:
-        raise InputError(f"poisson (nu) must be in [0, 0.5]; got {v}")
-    return v
-TOL_MIN = 1e-14
-"""Smallest relative tolerance: differences of a few round-offs (2.2e-16) cannot be resolved."""
+    """A Poisson ratio in [0, 0.5] (0.5: incompressible): ``options`` "poisson"."""
+    return _options.option("poisson").check(nu)
 
 
 def check_tol(tol) -> float:
-    """A relative accuracy target: a number in [TOL_MIN, 0.1)."""
-    t = check_finite("tol", tol, f"in [{TOL_MIN:g}, 0.1)")
-    if not (math.isfinite(t) and TOL_MIN <= t < 0.1):
-        raise InputError(f"tol must be in [{TOL_MIN:g}, 0.1); got {tol}")
-    return t
+    """A relative accuracy target: a number in [TOL_MIN, 0.1) (``options`` "tol")."""
+    return _options.option("tol").check(tol)
 
 
-MU_MAX = 1e3
-"""Largest |mu_d| accepted: the FFT solver is verified to |mu| = 100 (and fails to converge,
-exit 3, from ~1e3 on the paper's scene); beyond 1e3 round-off breaks the linear algebra."""
 A_OVER_H_MAX = 1e8
 """Largest Hertz half-width a_H/h = sqrt(P / 2 pi) accepted: the FFT solver is verified to 1e8
 frictionless (with friction it stops converging, exit 3, from ~1e3); beyond, the film's scales
 leave floating-point range."""
 _TYPICAL = {"load": 200.0, "young": 2.2e6, "radius": 0.130, "thickness": 0.002}
-_LABEL = {"load": "load (P_L)", "young": "young (E)", "radius": "radius (R)",
-          "thickness": "thickness (h)"}
-_UNIT = {"load": "N/m", "young": "Pa", "radius": "m", "thickness": "m"}
 
 
 @dataclass(frozen=True)
@@ -130,48 +121,26 @@ class Scene:
     farthest (in decades) from the paper's value.
     """
 
-    load: float = 200.0
-    mu: float = 2.0
-    young: float = 2.2e6
-    radius: float = 0.130
-    thickness: float = 0.002
-    poisson: float = 0.5
-    friction_law: str = "amontons"
+    load: float = default("load")
+    mu: float = default("mu")
+    young: float = default("young")
+    radius: float = default("radius")
+    thickness: float = default("thickness")
+    poisson: float = default("poisson")
+    friction_law: str = default("friction_law")
     friction_exponent: float | None = None
     friction_pref: float | None = None
     shear_strength: float | None = None
     shear_slope: float | None = None
-    interface_compliance: float = 0.0
-    interface_law: str = "linear"
+    interface_compliance: float = default("interface_compliance")
+    interface_law: str = default("interface_law")
     interface_pressure: float | None = None
     interface_length: float | None = None
 
     def __post_init__(self):
-        c = check_finite("interface compliance (C)", self.interface_compliance, ">= 0 m/Pa")
-        if c < 0.0:
-            raise InputError(f"interface compliance (C) must be >= 0 m/Pa; got {c}")
-        object.__setattr__(self, "interface_compliance", c)
-        object.__setattr__(self, "poisson", check_poisson(self.poisson))
-        law = self.friction  # validates the law's parameters: one-line InputError
-        if law.law == "linear" and law.shear_strength != 0.0 and self.poisson != 0.5:
-            # measured: the outer iteration settles on coarse grids but not under refinement
-            # (the edge nodes keep flipping at 131072 points, nu = 0.45): a compressible film's
-            # sinking kinks under the shear step tau_0 at the edge (its shear kernel ~ sgn x)
-            raise InputError("shear strength (tau_0) != 0 needs poisson 0.5: with the shear step at "
-                             "the contact edge the friction-law iteration does not settle on a "
-                             f"compressible film; got poisson {self.poisson:g}")
-        object.__setattr__(self, "young", check_positive("young (E)", self.young, "Pa"))
-        object.__setattr__(self, "radius", check_positive("radius (R)", self.radius, "m"))
-        object.__setattr__(self, "thickness", check_positive("thickness (h)", self.thickness, "m"))
-        load = check_finite("load (P_L)", self.load, ">= 0 N/m")
-        if load < 0.0:
-            raise InputError(f"load (P_L) must be >= 0 N/m; got {load}")
-        object.__setattr__(self, "load", load)
-        mu = check_finite("mu (mu_d)", self.mu, f"in [-{MU_MAX:g}, {MU_MAX:g}]")
-        if abs(mu) > MU_MAX:
-            raise InputError(f"mu (mu_d) must be in [-{MU_MAX:g}, {MU_MAX:g}]; got {mu:g}")
-        object.__setattr__(self, "mu", mu + 0.0)  # + 0.0: no -0
-        object.__setattr__(self, "load", load + 0.0)
+        for name, value in _options.validate(self, "line").items():  # the table's bounds
+            object.__setattr__(self, name, value)
+        _check_law_and_film(self)
         self._check_scales()
         self._check_interface_law()
 
@@ -180,7 +149,7 @@ class Scene:
         paper's value: the one to name when a derived quantity is out of range."""
         far = max(names, key=lambda n: abs(math.log10(getattr(self, n) / _TYPICAL[n]))
                   if getattr(self, n) > 0 else math.inf)
-        return f"{_LABEL[far]} = {getattr(self, far):g} {_UNIT[far]}"
+        return f"{named(far)} = {getattr(self, far):g} {_options.option(far).unit}"
 
     def _check_scales(self):
         """Every derived scale finite and > 0, and the contact within the solvers' range; the
@@ -208,28 +177,23 @@ class Scene:
 
 
     def _check_interface_law(self):
-        law = self.interface_law
-        if law not in ("linear", "exponential"):
-            raise InputError(f"interface law must be linear or exponential; got {law!r}")
-        if law == "linear":
-            for name, opt in (("interface_pressure", "--interface-pressure"),
-                              ("interface_length", "--interface-length")):
+        if self.interface_law == "linear":
+            for name in ("interface_pressure", "interface_length"):
                 if getattr(self, name) is not None:
-                    raise InputError(f"{opt} ({name}) applies to interface law exponential only")
+                    raise InputError(f"{named(name)} applies to {named('interface_law')} "
+                                     f"exponential only")
             return
-        for name, opt, unit in (("interface_pressure", "--interface-pressure", "Pa"),
-                                ("interface_length", "--interface-length", "m")):
-            v = getattr(self, name)
-            if v is None:
-                raise InputError(f"{opt} ({name}) is required by interface law exponential "
-                                 f"(> 0 {unit})")
-            object.__setattr__(self, name, check_positive(f"{opt} ({name})", v, unit))
+        for name in ("interface_pressure", "interface_length"):
+            if getattr(self, name) is None:
+                o = _options.option(name)
+                raise InputError(f"{named(name)} ({o.what}) is required by {named('interface_law')}"
+                                 f" exponential ({o.accepted()})")
         if self.interface_compliance:
-            raise InputError("interface compliance (C) applies to interface law linear only; "
-                             "the law is exponential")
+            raise InputError(f"{named('interface_compliance')} (C) applies to "
+                             f"{named('interface_law')} linear only; the law is exponential")
         if self.friction_law != "amontons":
-            raise InputError(f"interface law exponential takes friction law amontons only; got "
-                             f"{self.friction_law}")
+            raise InputError(f"{named('interface_law')} exponential takes {named('friction_law')} "
+                             f"amontons only; got {self.friction_law}")
 
     @property
     def interface_p0(self) -> float:
@@ -291,11 +255,24 @@ class Scene:
         return replace(self, **changes)
 
 
+def _check_law_and_film(scene) -> None:
+    """The friction law's parameters belong to the law (``FrictionLaw``), and tau_0 != 0 needs
+    an incompressible film."""
+    law = scene.friction  # validates the law's parameters: one-line InputError
+    if law.law == "linear" and law.shear_strength != 0.0 and scene.poisson != 0.5:
+        # measured: the outer iteration settles on coarse grids but not under refinement
+        # (the edge nodes keep flipping at 131072 points, nu = 0.45): a compressible film's
+        # sinking kinks under the shear step tau_0 at the edge (its shear kernel ~ sgn x)
+        raise InputError(f"{named('shear_strength')} (tau_0) != 0 needs {named('poisson')} 0.5: "
+                         "with the shear step at the contact edge the friction-law iteration does "
+                         f"not settle on a compressible film; got poisson {scene.poisson:g}")
+
+
 PAPER_SCENE = Scene()
 """The paper's scene: E = 2.2 MPa, R = 130 mm, h = 2 mm, P_L = 200 N/m, mu_d = 2.0."""
 
 
-INDENTERS_3D = ("sphere", "cylinder", "paraboloid", "function")
+_FRTH = ", ".join(named(n) for n in ("force", "young", "radius")) + " or " + named("thickness")
 A_OVER_H_MIN_3D = 1e-3
 """Smallest Hertz radius / h a 3D scene may have (the decay margin of ~15 h around a contact
 of 1e-3 h already needs ~10^5 cells per axis: the solver refuses before allocating)."""
@@ -343,68 +320,55 @@ class Scene3D:
     """
 
     indenter: str = "sphere"
-    force: float = 1.0
-    mu: float = 2.0
-    young: float = 2.2e6
-    radius: float = 0.130
-    thickness: float = 0.002
-    length: float = 0.008
+    force: float = default("force")
+    mu: float = default("mu")
+    young: float = default("young")
+    radius: float = default("radius")
+    thickness: float = default("thickness")
+    length: float = default("length")
     radius_x: float | None = None
     radius_y: float | None = None
     height: object = None
     extent: float | None = None
-    poisson: float = 0.5
-    friction_law: str = "amontons"
+    poisson: float = default("poisson")
+    friction_law: str = default("friction_law")
     friction_exponent: float | None = None
     friction_pref: float | None = None
     shear_strength: float | None = None
     shear_slope: float | None = None
-    interface_compliance: float = 0.0
+    interface_compliance: float = default("interface_compliance")
 
     def __post_init__(self):
-        object.__setattr__(self, "poisson", check_poisson(self.poisson))
-        c = check_finite("interface compliance (C)", self.interface_compliance, ">= 0 m/Pa")
-        if c < 0.0:
-            raise InputError(f"interface compliance (C) must be >= 0 m/Pa; got {c}")
-        object.__setattr__(self, "interface_compliance", c)
-        law = self.friction  # validates the law's parameters: one-line InputError
-        if law.law == "linear" and law.shear_strength != 0.0 and self.poisson != 0.5:
-            raise InputError("shear strength (tau_0) != 0 needs poisson 0.5: with the shear step at "
-                             "the contact edge the friction-law iteration does not settle on a "
-                             f"compressible film; got poisson {self.poisson:g}")
         if self.indenter not in INDENTERS_3D:
-            raise InputError(f"indenter must be one of {', '.join(INDENTERS_3D)} (or line in 2D); "
-                             f"got {self.indenter!r}")
-        for name, unit in (("young", "Pa"), ("radius", "m"), ("thickness", "m"), ("length", "m")):
-            object.__setattr__(self, name, check_positive(name, getattr(self, name), unit))
+            raise InputError(f"{named('indenter')} must be one of {', '.join(INDENTERS_3D)} (or "
+                             f"line in 2D); got {self.indenter!r}")
+        for name, value in _options.validate(self, "surface").items():  # the table's bounds
+            object.__setattr__(self, name, value)
+        _check_law_and_film(self)
         for name in ("radius_x", "radius_y"):
-            v = getattr(self, name)
-            object.__setattr__(self, name, self.radius if v is None else check_positive(name, v, "m"))
-        force = check_finite("force", self.force, ">= 0 N")
-        if force < 0.0:
-            raise InputError(f"force must be >= 0 N; got {force}")
-        object.__setattr__(self, "force", force)
-        object.__setattr__(self, "mu", check_finite("mu (mu_d)", self.mu, "any finite real"))
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, self.radius)
         if self.indenter == "function":
             if not callable(self.height):
-                raise InputError("indenter 'function' needs height: a callable height(x_m, y_m) [m]")
-            ext = 2.0 * self.thickness if self.extent is None else self.extent
-            object.__setattr__(self, "extent", check_positive("extent", ext, "m"))
+                raise InputError(f"{named('indenter')} 'function' needs height: a callable "
+                                 f"height(x_m, y_m) [m]")
+            if self.extent is None:
+                object.__setattr__(self, "extent", 2.0 * self.thickness)
         for name in ("length_unit", "displacement_unit", "stress_unit", "P"):
             try:
                 v = getattr(self, name)
             except OverflowError:  # float ** raises where * gives inf
                 v = math.inf
             if not (math.isfinite(v) and (v > 0 or (name == "P" and v == 0))):
-                raise InputError(f"the scene's {name.replace('_', ' ')} is {v:g}: force, young, "
-                                 f"radius or thickness out of range")
+                raise InputError(f"the scene's {name.replace('_', ' ')} is {v:g}: {_FRTH} out of "
+                                 f"range")
         if self.P > 0:
             # the Hertz radius (3P/32)^(1/3) in film thicknesses: within what a 2D grid of at
             # most 8192^2 points can hold with the film's decay margin around it
             s = (3.0 * self.P / 32.0) ** (1.0 / 3.0)
             if not A_OVER_H_MIN_3D <= s <= A_OVER_H_MAX_3D:
                 raise InputError(
-                    f"force, young, radius or thickness out of range for 3D: the Hertz contact "
+                    f"{_FRTH} out of range for 3D: the Hertz contact "
                     f"radius would be {s:.3g} film thicknesses; the 3D solver takes "
                     f"{A_OVER_H_MIN_3D:g} ... {A_OVER_H_MAX_3D:g} (smaller: use model hertz)")
 

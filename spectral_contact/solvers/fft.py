@@ -33,7 +33,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import ConvergenceError, InputError
+from ..errors import ConvergenceError, InputError, named
 from ..numerics.contact import refine_nested, solve_contact
 from ..numerics.edges import fit_edges, peak
 from ..numerics.fft import get_rfft, planning_time
@@ -543,14 +543,16 @@ class FFTMethod(Method):
         if np.ndim(grid_points) or np.ndim(domain_length):
             raise InputError("grid_points and domain_length are single numbers for a line "
                              "indenter (pairs [nx, ny], [Lx, Ly] are for 3D indenters)")
-        big = check_grid_points(grid_points, MIN_POINTS, 2**62, "fft grid points", even=True) \
+        shown = f"[{MIN_POINTS}, {MAX_POINTS}] (2^22)"
+        big = check_grid_points(grid_points, MIN_POINTS, 2**62, "fft grid points", even=True,
+                                shown=shown) \
             if isinstance(grid_points, (int, float)) and grid_points > MAX_POINTS else None
         if big is not None:  # before allocating anything
             raise InputError(
-                f"grid_points (fft grid points) must be in [{MIN_POINTS}, {MAX_POINTS}] "
-                f"(2^22); {big} would need ~{big * _BYTES_PER_POINT / 1e9:.1f} GB")
+                f"{named('grid_points')} (fft grid points) must be in {shown}; {big} would need "
+                f"~{big * _BYTES_PER_POINT / 1e9:.1f} GB")
         grid_points = check_grid_points(grid_points, MIN_POINTS, MAX_POINTS, "fft grid points",
-                                        even=True)
+                                        even=True, shown=shown)
         if domain_length is not None:
             domain_length = check_positive("domain_length", domain_length, "h")
         return grid_points, domain_length
