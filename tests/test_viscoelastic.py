@@ -28,7 +28,7 @@ def _rel(r, q):
 
 
 def test_material_functions():
-    f = ViscoelasticFilm(young=3.0, prony=((3.0, 0.5),), speed=1.0)
+    f = ViscoelasticFilm(relaxed_young=3.0, prony=((3.0, 0.5),), speed=1.0)
     assert abs(f.complex_modulus(0.0) - 1.0) < 1e-15  # G_inf = E_inf / 3
     assert abs(f.complex_modulus(1e12) - 2.0) < 1e-9   # G_0
     # SLS: max tan delta = (G0 - Ginf) / (2 sqrt(G0 Ginf)) at w tau = sqrt(Ginf/G0)
@@ -36,7 +36,7 @@ def test_material_functions():
     assert t == pytest.approx(1.0 / (2.0 * math.sqrt(2.0)), rel=1e-9)
     assert w * 0.5 == pytest.approx(math.sqrt(0.5), rel=1e-6)
     assert f.retardation_times() == pytest.approx([1.0], rel=1e-12)  # tau E_0/E_inf
-    two = ViscoelasticFilm(young=1.0, prony=((1.0, 0.1), (2.0, 10.0)), speed=1.0)
+    two = ViscoelasticFilm(relaxed_young=1.0, prony=((1.0, 0.1), (2.0, 10.0)), speed=1.0)
     rt = two.retardation_times()
     assert len(rt) == 2 and 0.1 < rt[0] < 10.0 < rt[1] <= 10.0 * 4.0
     for t_ in rt:  # zeros of G*(s / i)

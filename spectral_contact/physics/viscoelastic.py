@@ -44,7 +44,7 @@ modulus the symbol is not a scaling of the elastic one (the layer's transfer fun
 nu(w)), which this film does not model.
 
 Units: ``speed`` in lengths of ``thickness`` per second (the core: h/s), ``tau`` in seconds;
-moduli in any one unit (``young`` and the Prony moduli together).
+moduli in any one unit (``relaxed_young`` and the Prony moduli together).
 """
 from __future__ import annotations
 
@@ -62,16 +62,7 @@ __all__ = ["ViscoelasticFilm", "film_of", "parse_prony", "check_prony"]
 
 def parse_prony(text: str, option: str = "--prony") -> tuple:
     """'E1,tau1[,E2,tau2,...]' -> ((E1, tau1), ...); InputError naming ``option`` otherwise."""
-    parts = [s.strip() for s in str(text).split(",")]
-    try:
-        values = [float(s) for s in parts]
-    except ValueError:
-        raise InputError(f"{option} must be numbers E1,tau1[,E2,tau2,...] (E_i [Pa] > 0, tau_i "
-                         f"[s] > 0); got {text!r:.60}") from None
-    if len(values) % 2 or not values:
-        raise InputError(f"{option} needs pairs E1,tau1[,E2,tau2,...] (an even count of numbers); "
-                         f"got {len(values)} in {text!r:.60}")
-    return check_prony(zip(values[::2], values[1::2]), option)
+    return check_prony(str(text), option)
 
 
 @dataclass(frozen=True)
@@ -82,11 +73,12 @@ class ViscoelasticFilm(Film):
     ----------
     thickness : float
         h (the length unit of ``speed`` and of the wavenumbers' inverse).
-    young : float
+    relaxed_young : float
         E_inf, the relaxed Young's modulus (the unit of the compliances is 1/G_inf, G_inf =
-        E_inf/3: the elastic film's unit for E = E_inf).
+        E_inf/3: the elastic film's unit for E = E_inf; ``young`` stays the Film's, None in the
+        core).
     prony : tuple of (E_i, tau_i)
-        Prony moduli (same unit as ``young``) and relaxation times [s].
+        Prony moduli (same unit as ``relaxed_young``) and relaxation times [s].
     speed : float
         V [thickness units / s], signed: > 0 the indenter slides toward +x.
 
@@ -105,7 +97,7 @@ class ViscoelasticFilm(Film):
     (R = 1 exactly; the solvers then use ``Film`` itself, bit for bit).
     """
 
-    young: float = 1.0
+    relaxed_young: float = 1.0
     prony: tuple = ()
     speed: float = 0.0
     kx_cell: float = 0.0
@@ -121,13 +113,13 @@ class ViscoelasticFilm(Film):
     @property
     def glassy_young(self) -> float:
         """E_0 = E_inf + sum E_i."""
-        return self.young + sum(e for e, _ in self.prony)
+        return self.relaxed_young + sum(e for e, _ in self.prony)
 
     def complex_modulus(self, omega):
         """G*(omega) = [E_inf + sum E_i i w tau_i/(1 + i w tau_i)] / 3 (time factor exp(+i w t)),
-        in the unit of ``young``."""
+        in the unit of ``relaxed_young``."""
         w = np.asarray(omega, dtype=float)
-        E = np.full(w.shape, self.young, dtype=complex)
+        E = np.full(w.shape, self.relaxed_young, dtype=complex)
         for e, tau in self.prony:
             iwt = 1j * w * tau
             E = E + e * iwt / (1.0 + iwt)
@@ -165,7 +157,7 @@ class ViscoelasticFilm(Film):
         poles = [-1.0 / t for t in taus]  # increasing: most negative first
 
         def f(s):
-            return self.young + sum(e * s * t / (1.0 + s * t) for e, t in self.prony)
+            return self.relaxed_young + sum(e * s * t / (1.0 + s * t) for e, t in self.prony)
 
         out = []
         bounds = list(zip(poles[:-1], poles[1:])) + [(poles[-1], 0.0)] if poles else []
@@ -196,9 +188,9 @@ class ViscoelasticFilm(Film):
         out = []
         for tr in self.retardation_times():
             z = -1.0 / tr
-            deriv = sum(e / self.young * t / (1.0 + z * t) ** 2 for e, t in self.prony)
+            deriv = sum(e / self.relaxed_young * t / (1.0 + z * t) ** 2 for e, t in self.prony)
             out.append((tr / deriv, tr))
-        return self.young / self.glassy_young, out
+        return self.relaxed_young / self.glassy_young, out
 
     def modulus_ratio(self, direction, kmag):
         """R(k) = G_inf / G*(-k_x V) (1 where V = 0); at k_x = 0 its average over |k_x| <
@@ -206,7 +198,7 @@ class ViscoelasticFilm(Film):
         kx = np.asarray(kmag, dtype=float) * direction[0]
         if not self.moving:
             return np.ones_like(kx, dtype=complex)
-        R = (self.young / 3.0) / self.complex_modulus(-kx * self.speed)
+        R = (self.relaxed_young / 3.0) / self.complex_modulus(-kx * self.speed)
         if self.kx_cell > 0.0:
             r, terms = self.partial_fractions()
             band = r + sum(c * _atan_ratio(self.kx_cell * abs(self.speed) * tr) for c, tr in terms)
@@ -250,7 +242,7 @@ class ViscoelasticFilm(Film):
         (``solvers.fft``)."""
         if not self.moving:
             return 0.0
-        c = 1.0 - self.young / self.glassy_young
+        c = 1.0 - self.relaxed_young / self.glassy_young
         return c * min(1.0, (2.0 * self.thickness / self.tail_length) ** 2)
 
     def domain_margin(self, tol: float) -> float:
@@ -267,7 +259,7 @@ class ViscoelasticFilm(Film):
         and its weight."""
         if not self.moving:
             return []
-        return [(abs(self.speed) * t, e / self.young) for e, t in self.prony]
+        return [(abs(self.speed) * t, e / self.relaxed_young) for e, t in self.prony]
 
 
 def _atan_ratio(t: float) -> float:
@@ -282,6 +274,6 @@ def film_of(scene) -> Film:
     prony = getattr(scene, "prony", ())
     speed = getattr(scene, "speed", 0.0)
     if not (prony and speed != 0.0):
-        return Film(poisson=scene.poisson)
-    return ViscoelasticFilm(poisson=scene.poisson, young=scene.young, prony=prony,
+        return scene.core_film()
+    return ViscoelasticFilm(poisson=scene.poisson, relaxed_young=scene.young, prony=prony,
                             speed=speed / scene.thickness)
