@@ -118,35 +118,33 @@ def part_sphere(quick: bool, out, t0) -> list[dict]:
 
 
 def part_estimate(quick: bool, out, t0) -> list[dict]:
-    speeds = (1e-4, 1e-2, 1.0) if quick else (1e-6, 1e-5, 1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2,
-                                              0.1, 0.3, 1.0, 10.0)
-    tols = (1e-3,) if quick else (1e-3, 1e-4)
-    mus = (0.0,) if quick else (0.0, 1.0)
+    speeds = (1e-4, 1e-2, 1.0) if quick else (1e-6, 1e-5, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1,
+                                              1.0, 10.0)
+    cases = ((1e-3, 0.0),) if quick else ((1e-3, 0.0), (1e-3, 1.0), (1e-4, 0.0))
     rows = []
-    n = len(speeds) * len(tols) * len(mus)
-    nref = 2**18 if quick else 2**21
-    for tol in tols:
-        for mu in mus:
-            for V in speeds:
-                s = Scene(load=200.0, mu=mu, speed=V, prony=SLS, **FILM)
-                r = solve_fft(s, tol=tol)
-                ref = solve_fft(s, tol=tol, grid_points=nref, domain_length=2 * r.domain_length)
-                a = ref.half_width
-                errs = [abs(r.half_width - a) / a, abs(r.center - ref.center) / a,
-                        abs(r.indentation - ref.indentation) / ref.indentation,
-                        abs(r.max_pressure - ref.max_pressure) / ref.max_pressure,
-                        abs(r.info["pressure_centroid"] - ref.info["pressure_centroid"]) / a]
-                err = max(errs)
-                rows.append({"tol": tol, "mu": mu, "speed_m_per_s": V,
-                             "V_tau_over_h": V * TAU / FILM["thickness"],
-                             "error_estimate": r.error_estimate, "true_error": err,
-                             "ratio": err / r.error_estimate, "bounded": bool(err <= r.error_estimate),
-                             "reference_estimate": ref.error_estimate,
-                             "grid_points": r.grid_points, "period_h": r.domain_length})
-                progress(len(rows), n, f"tol {tol:g} mu {mu:g} V={V:.0e}", t0)
+    n = len(speeds) * len(cases)
+    for tol, mu in cases:
+        nref = 2**18 if quick else 2**20 if tol >= 1e-3 else 2**21
+        for V in speeds:
+            s = Scene(load=200.0, mu=mu, speed=V, prony=SLS, **FILM)
+            r = solve_fft(s, tol=tol)
+            ref = solve_fft(s, tol=tol, grid_points=nref, domain_length=2 * r.domain_length)
+            a = ref.half_width
+            errs = [abs(r.half_width - a) / a, abs(r.center - ref.center) / a,
+                    abs(r.indentation - ref.indentation) / ref.indentation,
+                    abs(r.max_pressure - ref.max_pressure) / ref.max_pressure,
+                    abs(r.info["pressure_centroid"] - ref.info["pressure_centroid"]) / a]
+            err = max(errs)
+            rows.append({"tol": tol, "mu": mu, "speed_m_per_s": V,
+                         "V_tau_over_h": V * TAU / FILM["thickness"],
+                         "error_estimate": r.error_estimate, "true_error": err,
+                         "ratio": err / r.error_estimate, "bounded": bool(err <= r.error_estimate),
+                         "reference_estimate": ref.error_estimate,
+                         "grid_points": r.grid_points, "period_h": r.domain_length})
+            progress(len(rows), n, f"tol {tol:g} mu {mu:g} V={V:.0e}", t0)
     table(rows, out / "viscoelastic_estimate.csv",
-          f"Error estimate against the true error (reference: {nref} points over twice the "
-          f"period), paper's load, SLS E1 = E_inf, tau = 10 ms")
+          "Error estimate against the true error (reference: 2^20 points (tol 1e-3), 2^21 (tol "
+          "1e-4) over twice the period), paper's load, SLS E1 = E_inf, tau = 10 ms")
     return rows
 
 

@@ -33,10 +33,14 @@ def solve_scene(scene: Scene, model: str, method: str, tol: float, grid_points=N
     """Solve ``scene`` (SI) with ``model`` by ``method``; ``domain_length`` in h."""
     if not isinstance(model, str) or model not in MODELS:
         raise InputError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
-    if getattr(scene, "prony", ()) and (model in ("hertz", "auto") or method != "fft"):
+    if getattr(scene, "prony", ()) and (model == "hertz" or method != "fft"
+                                        or (model == "auto" and isinstance(scene, Scene3D))):
         # issue 23: the viscoelastic film's symbol is in the FFT solver only
-        raise InputError(f"--prony (a viscoelastic film) needs --model exact or goodman and "
-                         f"--method fft; got --model {model}, --method {method}")
+        raise InputError(f"--prony (a viscoelastic film) needs --model exact or goodman (auto: "
+                         f"line indenter) and --method fft; got --model {model}, --method {method}")
+    if getattr(scene, "prony", ()) and model == "auto":
+        return _viscous_auto(scene, tol, make_method(method, max(0.25 * tol, 1e-14), grid_points,
+                                                     domain_length))
     custom = scene.custom()  # a user's indenter or film kind: the FFT method's exact/goodman
     if custom and (model == "hertz" or method != "fft"):
         which = "model hertz" if model == "hertz" else f"method {method}"
@@ -92,4 +96,41 @@ def solve_scene(scene: Scene, model: str, method: str, tol: float, grid_points=N
         r = solver.solve(scene, chosen)
     r.info.update({"auto": chosen, "auto_reason": reason, "auto_bounds": bounds,
                    "auto_provenance": PROVENANCE})
+    return r
+
+
+def _viscous_auto(scene: Scene, tol: float, solver) -> ContactResult:
+    """Model auto for a viscoelastic film (issue 23): the exact model on the viscoelastic film,
+    and the viscous effect measured against the relaxed elastic film (E_inf, the same scene at
+    rest), both solved at tol/4 (``solver``: so that their error estimates leave half of tol to
+    the effect; about twice the work of one solve at tol, or more): the largest relative change of a,
+    x0 (over a), Q/P (mu + mu_def on both) and the base stresses (max |difference| / max
+    |elastic|).  ``auto_reason`` says whether the elastic film is enough at tol (change + both
+    error estimates <= tol); the result is the viscoelastic solve (at tol/4)."""
+    import numpy as np
+
+    r = solver.solve(scene, "exact")
+    el = solver.solve(scene.with_(speed=0.0), "exact")  # V = 0: the relaxed film, bit for bit
+    a = el.half_width
+    L = r.domain_length
+
+    def base(field):
+        g = np.interp(el.x, r.x, getattr(r, field), period=L)
+        e = getattr(el, field)
+        return float(np.max(np.abs(g - e)) / max(float(np.max(np.abs(e))), 1e-300))
+
+    qp_el = el.friction_ratio + el.deformation_friction
+    changes = {"a": abs(r.half_width - a) / a, "x0": abs(r.center - el.center) / a,
+               "Q_over_P": abs(r.Q_over_P - qp_el) / max(abs(qp_el), 1e-300),
+               "base_sigma_zz": base("base_sigma_zz"), "base_sigma_xz": base("base_sigma_xz")}
+    worst = max(changes, key=changes.get)
+    bound = changes[worst] + r.error_estimate + el.error_estimate
+    enough = bound <= tol
+    r.info.update({
+        "auto": "exact", "auto_viscous_changes": changes, "auto_viscous_bound": bound,
+        "auto_reason": (f"exact on the viscoelastic film; viscous effect against the relaxed "
+                        f"elastic film (E_inf; both solved at tol/4): largest change "
+                        f"{changes[worst]:.2e} ({worst}), bound {bound:.2e} with both error "
+                        f"estimates: the elastic film is {'enough' if enough else 'not enough'} "
+                        f"at tol {tol:g}")})
     return r
