@@ -17,11 +17,12 @@ from .physics.film import Film
 from .physics.friction import FrictionLaw
 from .physics.interface import Interface
 from .physics.scene import PAPER_SCENE, Scene, Scene3D
+from .physics.shapes import Shape
 from .result import ContactResult, ContactResult3D
 from .solvers.onset import OnsetResult, onset  # noqa: F401 (issue 22: the onset of sliding)
 
 __all__ = ["solve", "Scene", "Scene3D", "PAPER_SCENE", "ContactResult", "ContactResult3D",
-           "Film", "Interface", "FrictionLaw", "InputError", "ConvergenceError",
+           "Film", "Shape", "Interface", "FrictionLaw", "InputError", "ConvergenceError",
            "SpectralContactError", "METHODS", "MODELS", "sensor", "SensorView", "sweep",
            "__version__"]
 
