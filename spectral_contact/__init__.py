@@ -26,19 +26,15 @@ __all__ = ["solve", "Scene", "Scene3D", "PAPER_SCENE", "ContactResult", "Contact
            "SpectralContactError", "METHODS", "MODELS", "sensor", "SensorView", "sweep",
            "__version__"]
 
-_LAZY = {"sensor": "spectral_contact.instruments.mems_view",
-         "SensorView": "spectral_contact.instruments.mems_view"}
-
-
 def __getattr__(name):  # the sensor view needs scipy.special: imported on first use only
-    if name in _LAZY:
-        import importlib
+    if name in ("sensor", "SensorView"):
+        from .instruments import mems_view
 
-        value = getattr(importlib.import_module(_LAZY[name]), name)
+        value = getattr(mems_view, name)
         globals()[name] = value
         return value
     if name == "sweep":  # the module spectral_contact.sweep, callable as the function sweep(...)
-        import importlib
+        import spectral_contact.sweep as module  # (the import system sets the attribute)
 
-        return importlib.import_module(".sweep", __name__)
+        return module
     raise AttributeError(f"module 'spectral_contact' has no attribute {name!r}")
