@@ -59,6 +59,22 @@ def test_a_user_parabola_is_the_cylinder_on_a_line():
     assert -np.sum(r.base_sigma_zz) * dx == pytest.approx(r.scene.P, rel=1e-10)
 
 
+def test_a_user_parabola_through_the_exponential_interface():
+    """The exponential interface law starts its Newton iteration from the indenter's first
+    pressure: a user's line shape gives the cylinder's answer, without overflow on the way."""
+    import warnings
+
+    kw = dict(load=200.0, interface_law="exponential", interface_pressure=1e5,
+              interface_length=1e-6, tol=1e-3)
+    ref = solve(**kw)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        r = solve(indenter=lambda x: x**2 / (2 * R), **kw)
+    bound = ref.error_estimate + r.error_estimate
+    assert _rel(r.half_width_m, ref.half_width_m) <= bound
+    assert _rel(r.indentation_m, ref.indentation_m) <= bound
+
+
 def test_a_user_shape_beyond_the_cylinder_is_solved_on_a_line():
     """A flat-bottomed punch with rounded edges (not a parabola): its contact covers the flat
     and is wider, its peak pressure lower, than that of the cylinder of its edges' radius (the
