@@ -36,6 +36,7 @@ CONTEXT = {
     "interface_pressure": {"interface_law": "exponential", "interface_length": 1e-6},
     "interface_length": {"interface_law": "exponential", "interface_pressure": 1e5},
     "interface_law": {"interface_pressure": 1e5, "interface_length": 1e-6},
+    "friction_law": {"shear_slope": 0.5},  # the linear law needs its parameters (issue 24)
 }
 
 

@@ -63,6 +63,11 @@ class FrictionLaw:
             object.__setattr__(self, "exponent", n)
             object.__setattr__(self, "pref", option("friction_pref").check(self.pref))
         if self.law == "linear":
+            if self.shear_strength is None and self.shear_slope is None:  # else: no friction at all
+                raise InputError(f"{named('friction_law')} linear needs its parameters: "
+                                 f"{named('shear_strength')} (tau_0) [Pa] and/or "
+                                 f"{named('shear_slope')} (alpha), same sign; {named('mu')} is "
+                                 f"not used by this law")
             tau0 = option("shear_strength").check(self.shear_strength or 0.0)
             alpha = option("shear_slope").check(self.shear_slope or 0.0)
             if tau0 * alpha < 0.0:

@@ -76,6 +76,57 @@ leave floating-point range."""
 _TYPICAL = {"load": 200.0, "young": 2.2e6, "radius": 0.130, "thickness": 0.002}
 
 
+LAW_SCALE_MAX = 1e8
+"""Bound on the friction law's stress parameters (p_ref, tau_0) over the scene's stress unit
+E h/(6R): beyond it the local friction coefficient mu (p/p_ref)^-n (or tau_0 against p) is
+under- or overflowing nonsense (p_ref = 5e-324 Pa divided by zero; 1e300 Pa never converged)."""
+SHAPE_RATIO_MIN, SHAPE_RATIO_MAX = 1e-6, 1e6
+"""Bounds on a 3D indenter's shape ratios (cylinder length / h, paraboloid radii / radius): a
+subnormal length divided by zero, a subnormal radius_x never converged."""
+
+
+SOFT_CONTACT_RANGES = {"young": (1e3, 1e9, "Pa"), "thickness": (1e-6, 0.1, "m"),
+                       "radius": (1e-6, 10.0, "m"), "length": (1e-5, 1.0, "m")}
+"""Soft-contact practice (elastomer films, gels, skin): E from 1 kPa to 1 GPa, films from 1 um
+to 10 cm, indenter radii from 1 um to 10 m, cylinder lengths from 10 um to 1 m.  A value
+outside is accepted (the model is scale-free) with one warning: it is most often a units slip
+(thickness=2 meant in mm, E in MPa)."""
+
+
+class UnitsWarning(UserWarning):
+    """A value outside ``SOFT_CONTACT_RANGES``; ``option`` is the parameter's Python name (the
+    command line names it as typed)."""
+
+    def __init__(self, message, option=None):
+        super().__init__(message)
+        self.option = option
+
+
+def _warn_units(scene) -> None:
+    import warnings
+
+    for name, (lo, hi, unit) in SOFT_CONTACT_RANGES.items():
+        v = getattr(scene, name, None)
+        if v is not None and not lo <= v <= hi:
+            warnings.warn(UnitsWarning(f"{name} = {v:g} {unit} is outside soft-contact practice "
+                                       f"[{lo:g}, {hi:g}] {unit}: is it in SI units?", name),
+                          stacklevel=4)
+
+
+def _check_law_scales(scene) -> None:
+    """The friction law's stresses within LAW_SCALE_MAX of the stress unit (tau_0 may be 0)."""
+    law, unit = scene.friction, scene.stress_unit
+    for value, name, opt in ((law.pref, "friction pref (p_ref)", "--friction-pref"),
+                             (law.shear_strength, "shear strength (tau_0)", "--shear-strength")):
+        if value is None or (value == 0.0 and opt == "--shear-strength"):
+            continue
+        ratio = abs(value) / unit
+        if not 1.0 / LAW_SCALE_MAX <= ratio <= LAW_SCALE_MAX:
+            raise InputError(f"{name} = {value:g} Pa is out of range: |value| / (E h/(6R) = "
+                             f"{unit:.3g} Pa) = {ratio:.3g} must be in [{1 / LAW_SCALE_MAX:g}, "
+                             f"{LAW_SCALE_MAX:g}] ({opt})")
+
+
 @dataclass(frozen=True)
 class Scene:
     """A rigid cylinder sliding on an elastic film (incompressible by default) bonded to a rigid
@@ -166,11 +217,15 @@ class Scene:
         _check_law_and_film(self)
         self._check_scales()
         self._check_interface_law()
+        _check_law_scales(self)
+        _warn_units(self)
 
     def extreme_parameter(self, names=("load", "young", "thickness", "radius")) -> str:
         """"name = value unit" of the parameter among ``names`` farthest (in decades) from the
         paper's value: the one to name when a derived quantity is out of range."""
-        far = max(names, key=lambda n: abs(math.log10(getattr(self, n) / _TYPICAL[n]))
+        # log10 of each factor, not of the ratio: a subnormal value over the typical one
+        # underflows to 0 (log10(4.9e-324 / 200) is a domain error)
+        far = max(names, key=lambda n: abs(math.log10(getattr(self, n)) - math.log10(_TYPICAL[n]))
                   if getattr(self, n) > 0 else math.inf)
         return f"{named(far)} = {getattr(self, far):g} {_options.option(far).unit}"
 
@@ -447,6 +502,17 @@ class Scene3D:
                     f"{_FRTH} out of range for 3D: the Hertz contact "
                     f"radius would be {s:.3g} film thicknesses; the 3D solver takes "
                     f"{A_OVER_H_MIN_3D:g} ... {A_OVER_H_MAX_3D:g} (smaller: use model hertz)")
+
+        _check_law_scales(self)
+        _warn_units(self)
+        for name, ratio, what in (
+                ("length", self.length / self.thickness, "length / thickness"),
+                ("radius_x", self.radius_x / self.radius, "radius_x / radius"),
+                ("radius_y", self.radius_y / self.radius, "radius_y / radius")):
+            if not SHAPE_RATIO_MIN <= ratio <= SHAPE_RATIO_MAX:
+                raise InputError(f"{name} = {getattr(self, name):g} m is out of range: {what} = "
+                                 f"{ratio:.3g} must be in [{SHAPE_RATIO_MIN:g}, "
+                                 f"{SHAPE_RATIO_MAX:g}]")
 
     length_unit = Scene.length_unit
     displacement_unit = Scene.displacement_unit
