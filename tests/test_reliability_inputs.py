@@ -129,3 +129,18 @@ def test_the_example_data_runs_as_readme_says(capsys):
     assert main(["calibrate", "--measured", str(ex / "synthetic_punch_scan.csv"), "--punch-load",
                  "0.1", "--n-boot", "0", "--json"]) == 0
     assert abs(json.loads(capsys.readouterr().out)["A_mV_per_bar"] / 19.0 - 1) < 0.01
+
+
+def test_start_up_imports_neither_dask_array_nor_scipy_fftpack():
+    """pyfftw is imported without its drop-in interfaces (numerics.fft._import_pyfftw): a fresh
+    solve imports neither dask.array nor scipy.fftpack (85 % of `import pyfftw`), and both
+    still import afterwards."""
+    import subprocess
+    import sys
+
+    code = ("import sys, spectral_contact as sc; sc.solve(tol=1e-2); "
+            "print('dask.array' in sys.modules, 'scipy.fftpack' in sys.modules); "
+            "import dask.array.fft, pyfftw.interfaces.scipy_fft; print('ok')")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=300).stdout.split()
+    assert out == ["False", "False", "ok"]
