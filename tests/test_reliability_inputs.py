@@ -144,3 +144,26 @@ def test_start_up_imports_neither_dask_array_nor_scipy_fftpack():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          timeout=300).stdout.split()
     assert out == ["False", "False", "ok"]
+
+
+def test_progress_on_a_terminal_is_one_line_rewritten_and_erased():
+    import io
+    import logging
+
+    from spectral_contact.cli.progress import show_progress
+
+    class Tty(io.StringIO):
+        def isatty(self):
+            return True
+
+    tty = Tty()
+    with show_progress(after=0.0, stream=tty, skip=("spectral_contact.solvers",)):
+        import time
+
+        time.sleep(0.05)
+        logging.getLogger("spectral_contact.instruments.compare").info("fit: solve 2")
+        logging.getLogger("spectral_contact.solvers.fft").info("level 3")  # skipped
+        logging.getLogger("spectral_contact.instruments.compare").info("fit: solve 3")
+    text = tty.getvalue()
+    assert "\n" not in text and "level 3" not in text and "fit: solve 3" in text
+    assert text.endswith("\r\x1b[K")  # erased when done
