@@ -72,7 +72,7 @@ from .errors import ConvergenceError, InputError
 from .physics import options as _table
 
 __all__ = ["sweep", "OPTIONS", "TIMING_COLUMNS", "STATUSES", "parse_values", "read_spec",
-           "scenes", "scene_key", "solve_row", "table_columns", "connect_scheduler", "local_client",
+           "scenes", "scene_key", "scene_of", "solve_row", "table_columns", "connect_scheduler", "local_client",
            "DASK_CONFIG", "check_workers", "map_tasks"]
 
 STATUSES = ("ok", "input_error", "not_converged", "crashed")
@@ -253,12 +253,19 @@ def table_columns() -> list[str]:
     return ["key", *OPTIONS, "status", "message", *_summary_names()]
 
 
+def scene_of(params: dict):
+    """The scene (``Scene`` or ``Scene3D``) of a row's parameters (``api.make_scene``)."""
+    from .api import make_scene
+
+    return make_scene(**{k: params[k] for k in _SCENE_KEYS if params[k] is not None})
+
+
 def _solve(params: dict):
     from .api import solve
 
-    scene = {k: params[k] for k in _SCENE_KEYS if params[k] is not None}
-    return solve(model=params["model"], method=params["method"], tol=params["tol"],
-                 grid_points=params["grid_points"], domain_length=params["domain_length"], **scene)
+    return solve(scene_of(params), model=params["model"], method=params["method"],
+                 tol=params["tol"], grid_points=params["grid_points"],
+                 domain_length=params["domain_length"])
 
 
 def _task(params: dict, profiles: bool = False):

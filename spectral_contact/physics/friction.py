@@ -91,11 +91,10 @@ class FrictionLaw:
 
     def describe(self) -> dict:
         """The law's parameters for the JSON record (SI)."""
-        out = {"friction_law": self.law}
-        if self.law == "power":
-            out |= {"friction_exponent": self.exponent, "friction_pref_Pa": self.pref}
-        if self.law == "linear":
-            out |= {"shear_strength_Pa": self.shear_strength, "shear_slope": self.shear_slope}
+        out = {"friction_law": self.law}  # the options' JSON keys (physics.options)
+        own = {"power": ("exponent", "pref"), "linear": ("shear_strength", "shear_slope")}
+        for name in own.get(self.law, ()):
+            out[option(_OPTION_OF[name]).json] = getattr(self, name)
         return out
 
 

@@ -16,9 +16,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, named
 
-__all__ = ["Indenter", "Cylinder", "Paraboloid", "Sphere", "FiniteCylinder", "HeightFunction"]
+__all__ = ["Indenter", "Cylinder", "Paraboloid", "Sphere", "FiniteCylinder", "HeightFunction",
+           "LineHeightFunction"]
 
 
 @dataclass(frozen=True)
@@ -152,30 +153,22 @@ class FiniteCylinder(Indenter):
         return 2.0 * math.sqrt(line / (2 * math.pi * self.curvature)), self.half_length
 
 
-def checked_heights(values, shape) -> np.ndarray:
-    """The heights an indenter's callable returned, as floats of ``shape``: InputError (one
-    line) for anything else -- text, NaN, -inf, another shape, no finite height at all.
-    +inf is allowed (no indenter there)."""
+def user_heights(function, *xy) -> np.ndarray:
+    """A user's height function at the nodes: numbers, finite or +inf (no indenter there), of
+    the nodes' shape, else one-line InputError."""
     try:
-        f = np.asarray(values, dtype=float)
-    except (TypeError, ValueError):
-        kind = type(values).__name__
-        if isinstance(values, np.ndarray):
-            kind = f"an array of {values.dtype}"
-        raise InputError(f"the indenter's height function must return numbers (heights [m], "
-                         f"+inf where there is no indenter); got {kind}") from None
-    try:
-        f = np.broadcast_to(f, shape)
-    except ValueError:
-        raise InputError(f"the indenter's height function must return an array of the shape of "
-                         f"its x, y {shape}; got {f.shape}") from None
-    bad = np.isnan(f) | (f == -np.inf)
-    if bad.any():
-        raise InputError(f"the indenter's height function returned NaN or -inf at {int(bad.sum())} "
-                         f"of {f.size} points: heights must be numbers, +inf where there is no "
-                         f"indenter")
-    if not np.isfinite(f).any():
-        raise InputError("the indenter's height function is +inf everywhere: no indenter")
+        f = np.asarray(function(*xy), dtype=float)
+    except InputError:
+        raise
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{named('indenter')}: the height function must return numbers [m]; "
+                         f"{type(exc).__name__}: {str(exc)[:80]}") from None
+    if f.shape != np.broadcast(*xy).shape:
+        raise InputError(f"{named('indenter')}: the height function returned shape {f.shape} "
+                         f"for nodes of shape {np.broadcast(*xy).shape}: it must act elementwise")
+    if np.isnan(f).any() or (f == -np.inf).any() or not np.isfinite(f).any():
+        raise InputError(f"{named('indenter')}: the height function must return finite heights "
+                         f"(or +inf where there is no indenter); got NaN, -inf or no finite one")
     return f
 
 
@@ -193,7 +186,7 @@ class HeightFunction(Indenter):
 
     def height(self, grid) -> np.ndarray:
         x, y = self.offset(grid)
-        f = checked_heights(self.function(x + 0 * y, y + 0 * x), np.broadcast(x, y).shape)
+        f = user_heights(self.function, x + 0 * y, y + 0 * x)
         return f - np.min(f)
 
     def initial_pressure(self, grid) -> np.ndarray:
@@ -210,3 +203,39 @@ class HeightFunction(Indenter):
 
     def extent_bound(self) -> tuple:
         return tuple(self.half_extent)
+
+
+@dataclass(frozen=True)
+class LineHeightFunction(Indenter):
+    """Any rigid line shape (plane strain, its axis along y): ``function(x)`` gives the height
+    f above the apex (in the core's units: x in h, f in h^2/(2R)) at offsets x from the apex,
+    +inf where the indenter does not exist; ``half_extent`` [h] bounds the contact's
+    half-width.  ``load``: per unit length, as ``Cylinder``'s."""
+
+    function: object = None
+    half_extent: float = 1.0
+
+    def offset(self, grid) -> tuple:
+        return grid.periodic_offset((self.apex,) + (0.0,) * (len(grid.shape) - 1))[:1]
+
+    def height(self, grid) -> np.ndarray:
+        (x,) = self.offset(grid)
+        f = user_heights(self.function, x)
+        return f - np.min(f)
+
+    def distance(self, grid) -> np.ndarray:
+        return np.abs(self.offset(grid)[0])
+
+    def initial_pressure(self, grid) -> np.ndarray:
+        """1 on the nodes of the window |x| <= half_extent whose height is below the window's
+        median (only its support matters: it is the first active set)."""
+        f = self.height(grid)
+        (x,) = self.offset(grid)
+        sel = (np.abs(x) <= self.half_extent) & np.isfinite(f)
+        if not sel.any() or self.load <= 0:
+            return np.zeros(f.shape)
+        inside = sel & (f <= np.median(f[sel]))
+        return np.where(inside, 1.0, 0.0)
+
+    def extent_bound(self) -> float:
+        return self.half_extent

@@ -19,11 +19,11 @@ import math
 import numbers
 from dataclasses import dataclass
 
-import numpy as np
-
 from ..errors import InputError, named
 from . import options as _options
+from .film import Film
 from .friction import FrictionLaw
+from .indenters import Cylinder, LineHeightFunction, user_heights
 from .options import INDENTERS_3D, MU_MAX, TOL_MIN, default
 
 __all__ = ["Scene", "Scene3D", "INDENTERS_3D", "PAPER_SCENE", "check_finite", "check_positive",
@@ -166,6 +166,17 @@ class Scene:
     interface_pressure, interface_length : float, optional
         p0 [Pa] > 0 and lambda [m] > 0 of the exponential law (required by it, refused
         otherwise).  The exponential law has no sharp contact edges.
+    height : callable, optional
+        Any line indenter instead of the cylinder: height(x_m) -> f [m] above its lowest point
+        (x an array of positions from the apex [m]; +inf where there is no indenter), loaded
+        by ``load`` per unit length; ``radius`` is then only the unit of heights (h^2/2R).
+        The FFT method only.
+    extent : float, optional
+        With ``height``: a bound of the contact's half-width [m] (default 2 h).
+    film : physics.film.Film, optional
+        The film's kind: a ``Film`` or a subclass supplying its own symbols (``Film.transfer``);
+        its thickness, young and poisson are the scene's (given in one place: the film, or
+        the scene's fields).  Default: the elastic film of ``poisson``.
 
     The derived units (h^2/2R, E h/6R) must be finite and > 0, and the Hertz half-width
     sqrt(P / 2 pi) at most A_OVER_H_MAX film thicknesses; else InputError names the parameter
@@ -187,10 +198,22 @@ class Scene:
     interface_law: str = default("interface_law")
     interface_pressure: float | None = None
     interface_length: float | None = None
+    height: object = None
+    extent: float | None = None
+    film: object = None
 
     def __post_init__(self):
+        _take_film(self)
         for name, value in _options.validate(self, "line").items():  # the table's bounds
             object.__setattr__(self, name, value)
+        if self.height is not None and not callable(self.height):
+            raise InputError(f"{named('height')} must be a callable height(x_m) [m]; got "
+                             f"{type(self.height).__name__}")
+        if self.height is None and self.extent is not None:
+            raise InputError(f"{named('extent')} bounds a height function's contact: give "
+                             f"{named('height')} (or an indenter function) with it")
+        if self.height is not None and self.extent is None:
+            object.__setattr__(self, "extent", 2.0 * self.thickness)
         _check_law_and_film(self)
         self._check_scales()
         self._check_interface_law()
@@ -303,11 +326,60 @@ class Scene:
         """Dimensionless lineic load P = P_L 2R / (G h^2) (= P_L 6R / (E h^2) at nu = 1/2)."""
         return self.load / (self.stress_unit * self.length_unit)
 
+    def indenter_object(self):
+        """The indenter in the core's units (``physics.indenters``), apex at the origin: the
+        cylinder, or the user's height function."""
+        if self.height is None:
+            return Cylinder(0.0, self.P)
+        h, unit, height = self.thickness, self.displacement_unit, self.height
+
+        def f(x):
+            return user_heights(height, x * h) / unit
+
+        return LineHeightFunction(0.0, self.P, f, self.extent / h)
+
+    def core_film(self) -> Film:
+        """The film in the core's units (thickness 1, stresses in G): the scene's kind."""
+        return Film(poisson=self.poisson) if self.film is None else self.film.core()
+
+    def custom(self) -> str | None:
+        """What of this scene only the FFT method solves (a user's indenter or film kind), in
+        words; None for the built-in ones."""
+        return _custom(self)
+
     def with_(self, **changes) -> Scene:
         """A copy with some parameters changed."""
         from dataclasses import replace
 
         return replace(self, **changes)
+
+
+def _take_film(scene) -> None:
+    """A scene given ``film=``: its thickness, young and poisson are the film's (the scene's own
+    fields left at their defaults, or equal)."""
+    film = scene.film
+    if film is None:
+        return
+    if not isinstance(film, Film):
+        raise InputError(f"{named('film')} must be a physics.film.Film (or a subclass); got "
+                         f"{type(film).__name__}")
+    if film.young is None:
+        raise InputError(f"{named('film')}: a scene's film needs its Young modulus, "
+                         f"Film(thickness=h [m], young=E [Pa], poisson=nu)")
+    for name in ("thickness", "young", "poisson"):
+        mine, its = getattr(scene, name), getattr(film, name)
+        if mine != its and mine != default(name):
+            raise InputError(f"{named(name)} = {mine:g} and {named('film')}.{name} = {its:g}: "
+                             f"give the film's {name} once, in the film")
+        object.__setattr__(scene, name, its)
+
+
+def _custom(scene) -> str | None:
+    if scene.film is not None and type(scene.film) is not Film:
+        return f"a user-defined film ({type(scene.film).__name__})"
+    if isinstance(scene, Scene) and scene.height is not None:
+        return "a user-defined line indenter"
+    return None
 
 
 def _check_law_and_film(scene) -> None:
@@ -369,6 +441,8 @@ class Scene3D:
     friction_law, friction_exponent, friction_pref, shear_strength, shear_slope,
     interface_compliance :
         As ``Scene`` (issue 14): the friction law q(p) along x, a linear interface compliance.
+    film : physics.film.Film, optional
+        The film's kind, as ``Scene.film``.
 
     Dimensionless core: as ``Scene``, and the force P = F 6R / (E h^3) (stresses integrate
     over an area in h^2).
@@ -392,8 +466,10 @@ class Scene3D:
     shear_strength: float | None = None
     shear_slope: float | None = None
     interface_compliance: float = default("interface_compliance")
+    film: object = None
 
     def __post_init__(self):
+        _take_film(self)
         if self.indenter not in INDENTERS_3D:
             raise InputError(f"{named('indenter')} must be one of {', '.join(INDENTERS_3D)} (or "
                              f"line in 2D); got {self.indenter!r}")
@@ -445,6 +521,8 @@ class Scene3D:
     friction = Scene.friction
     interface = Scene.interface
     interface_law = "linear"  # not a field: the exponential law is for the line indenter only
+    core_film = Scene.core_film
+    custom = Scene.custom
 
     @property
     def P(self) -> float:
@@ -453,7 +531,7 @@ class Scene3D:
 
     def indenter_object(self):
         """The indenter in the core's units (``physics.indenters``), apex at the origin."""
-        from .indenters import FiniteCylinder, HeightFunction, Paraboloid, Sphere, checked_heights
+        from .indenters import FiniteCylinder, HeightFunction, Paraboloid, Sphere, user_heights
 
         h, R = self.thickness, self.radius
         if self.indenter == "sphere":
@@ -465,7 +543,7 @@ class Scene3D:
         unit = self.displacement_unit
 
         def f(x, y):
-            return checked_heights(self.height(x * h, y * h), np.broadcast(x, y).shape) / unit
+            return user_heights(self.height, x * h, y * h) / unit
 
         return HeightFunction(0.0, self.P, f, (self.extent / h, self.extent / h))
 

@@ -40,9 +40,7 @@ from ..numerics.fft import get_rfft, planning_time
 from ..numerics.friction import solve_contact_law
 from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.interface import solve_exponential_contact
-from ..physics.film import Film
 from ..physics.friction import ShearLaw
-from ..physics.indenters import Cylinder
 from ..physics.scene import Scene, Scene3D, check_positive
 from ..result import ContactResult
 from .base import Method, check_grid_points, register
@@ -263,7 +261,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     plans0 = planning_time()
     P = scene.P
     mu_contact = scene.mu if model == "exact" else 0.0
-    film = Film(poisson=scene.poisson)  # lengths in h: thickness 1
+    film = scene.core_film()  # lengths in h: thickness 1 (a user's film kind: its symbols)
     margin = film.domain_margin(tol)  # images ~ tol/100 x O(1)
     # residual (relative displacement / pressure / load) accepted from each contact solve:
     # far below tol, but not below what round-off allows for very wide contacts
@@ -321,7 +319,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
                              0.0, g.n, L, 0, 0.0, 0.0, time.perf_counter() - t0, 0.0,
                              {"fft_pairs": 0})
 
-    indenter = [Cylinder(0.0, P)]
+    indenter = [scene.indenter_object()]  # the cylinder, or a user's height function
     fft_pairs = 0
     krylov = 0
     outer = 0
@@ -340,6 +338,8 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         # the incompressible thin layer: the larger of the two thin-layer widths
         a_bound = min(math.sqrt(P * (1.0 - scene.poisson) / math.pi),
                       max((3.75 * P) ** 0.2, (0.75 * film.uniform_compliance * P) ** (1.0 / 3.0)))
+    if scene.height is not None:  # a user's line indenter: the bound it was given
+        a_bound = indenter[0].extent_bound()
     L0 = 4.0 * a_bound + margin
     n0 = grid_points // 4 if grid_points else pow2_at_least(L0 / (2 * a_bound / _FIRST_ACROSS), MIN_POINTS)
     n0 = max(MIN_POINTS, n0)
