@@ -280,13 +280,24 @@ class ContactResult:
         return _plot(self, ax, sensor)
 
 
+TAIL_FRACTION = 0.01
+"""The plots' x range holds the base stresses down to this fraction of their peak (issue 24:
+contact +- 2 h cut S_xz at 14 kPa, a quarter of its peak)."""
+
+
 def _xrange_mm(result, margin_h: float = 2.0):
-    """Plot range [mm]: the contact plus ``margin_h`` film thicknesses on each side."""
+    """Plot range [mm]: the contact plus ``margin_h`` film thicknesses on each side, widened
+    to where both base stresses have fallen below TAIL_FRACTION of their peak."""
     L, mm = result.scene.length_unit, 1e3
     x = result.x_m * mm
     iv = result.contact_intervals
     lo, hi = (iv[0][0], iv[-1][1]) if iv else (0.0, 0.0)
     lo, hi = (lo - margin_h) * L * mm, (hi + margin_h) * L * mm
+    base = np.maximum(np.abs(np.asarray(result.base_sigma_zz_Pa)),
+                      np.abs(np.asarray(result.base_sigma_xz_Pa)))
+    if base.size == x.size and base.size and np.max(base) > 0:
+        big = x[base >= TAIL_FRACTION * np.max(base)]
+        lo, hi = min(lo, float(big.min())), max(hi, float(big.max()))
     return max(lo, x.min()), min(hi, x.max())
 
 
@@ -324,27 +335,23 @@ def _plot(result, ax=None, sensor=None):
     mark_contact(a0, label=True)
     a0.plot(x[sel], result.pressure_Pa[sel] * kPa, color="C0", label="pressure p = -sigma_zz(x, h)")
     a0.set_ylabel("pressure p [kPa]", color="C0")
+    if np.any(result.surface_shear_Pa[sel] != 0.0):
+        # one axis, both in kPa (issue 24: a right axis scaled by mu_d drew the Amontons shear
+        # on top of the pressure, adding nothing)
+        a0.plot(x[sel], result.surface_shear_Pa[sel] * kPa, "--", color="C3",
+                label=("surface shear sigma_xz(x, h)" if result.shear is not None
+                       else f"surface shear sigma_xz(x, h) = {s.mu:g} p"))
+        a0.set_ylabel("surface stress [kPa]", color="black")
     handles, labels = a0.get_legend_handles_labels()
     leg_ax = a0
-    if s.mu != 0.0:
-        tw = a0.twinx()
-        tw.plot(x[sel], result.surface_shear_Pa[sel] * kPa, "--", color="C3",
-                label=("surface shear sigma_xz(x, h) (right axis)" if result.shear is not None
-                       else f"surface shear sigma_xz(x, h) = {s.mu:g} p (right axis)"))
-        tw.set_ylabel("surface shear [kPa]", color="C3")
-        lo_p, hi_p = a0.get_ylim()
-        # the right axis is the left one times mu_d: the curves coincide (mirror for mu_d < 0)
-        tw.set_ylim(lo_p * s.mu, hi_p * s.mu) if s.mu > 0 else tw.set_ylim(hi_p * s.mu, lo_p * s.mu)
-        h2, l2 = tw.get_legend_handles_labels()
-        handles, labels = handles + h2, labels + l2
-        leg_ax = tw
     leg_ax.legend(handles, labels, fontsize=7, loc="lower left", bbox_to_anchor=(0.0, 1.0),
                   ncols=2, frameon=False, borderaxespad=0.2)
     split = f"; contact in {len(intervals)} intervals" if len(intervals) > 1 else ""
     if ax is None:  # a figure of our own: the scene as its title
         fig.suptitle(f"{result.model} model ({result.method}): P_L = {s.load:g} N/m, mu_d = {s.mu:g}, "
                      f"E = {s.young / 1e6:g} MPa, R = {s.radius * mm:g} mm, h = {s.thickness * mm:g} mm"
-                     f"{split}", fontsize=8)
+                     f"{split}" + ("" if s.friction_law == "amontons" else
+                                   f"; {s.friction_law} friction law"), fontsize=10)
     if len(axes) > 1:
         a1 = axes[1]
         mark_contact(a1)

@@ -167,3 +167,18 @@ def test_progress_on_a_terminal_is_one_line_rewritten_and_erased():
     text = tty.getvalue()
     assert "\n" not in text and "level 3" not in text and "fit: solve 3" in text
     assert text.endswith("\r\x1b[K")  # erased when done
+
+
+def test_line_plot_window_holds_the_base_stress_tails():
+    """The plotted x range reaches where both base stresses are below 1 % of their peak (it
+    was the contact +- 2 h, cutting S_xz at a quarter of its peak)."""
+    from spectral_contact.result import TAIL_FRACTION
+
+    r = solve(tol=1e-3)
+    fig = r.plot()
+    lo, hi = fig.axes[1].get_xlim()
+    x = r.x_m * 1e3
+    base = np.maximum(np.abs(r.base_sigma_zz_Pa), np.abs(r.base_sigma_xz_Pa))
+    outside = (x < lo) | (x > hi)
+    assert np.max(base[outside], initial=0.0) < TAIL_FRACTION * base.max() * 1.01
+    assert fig.texts and fig.texts[0].get_fontsize() >= 10  # a readable title
