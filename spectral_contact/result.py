@@ -588,33 +588,65 @@ def _plot_maps(result, sensor, window):
         panels += [("S_zz_Pa", "MEMS S_zz [kPa] (+ compression)"), ("S_xz_Pa", "MEMS S_xz [kPa]"),
                    ("S_yz_Pa", "MEMS S_yz [kPa]")]
         fields.update({k: sensor[k] for k in ("S_zz_Pa", "S_xz_Pa", "S_yz_Pa")})
-    ncol = 4 if not sensor else 4
-    nrow = int(np.ceil(len(panels) / ncol))
-    fig = Figure(figsize=(3.6 * ncol, 3.3 * nrow))
+    ncol = 3 if not sensor else 4
+    nrow = int(np.ceil((len(panels) + 1) / ncol))  # + the y = 0 line
+    fig = Figure(figsize=(3.8 * ncol, 3.5 * nrow))
     axes = fig.subplots(nrow, ncol, squeeze=False)
     X, Y = np.meshgrid(x[sx], y[sy], indexing="ij")
     contact = result.pressure[np.ix_(sx, sy)] > 0
+    clipped = []
     for ax, (key, title) in zip(axes.ravel(), panels):
         f = fields[key][np.ix_(sx, sy)] / 1e3
-        lim = max(np.max(np.abs(f)), 1e-30)
+        top = max(np.max(np.abs(f)), 1e-30)
+        # the colour scale stops at a percentile of |value| (issue 24: the finite cylinder's
+        # singular ends took the whole scale); the clipped maximum is said in the title
+        lim = max(float(np.percentile(np.abs(f), MAP_CLIP_PERCENTILE)), 1e-30)
+        lim = top if top <= 1.05 * lim else lim
+        if lim < top:
+            clipped.append(f"{title.split(' [')[0]} max {top:.3g} kPa")
         signed = key != "pressure_Pa"
-        if key.startswith("S_"):  # the paper's measured field: iso-lines
-            cs = ax.contour(X, Y, f, levels=12, cmap="RdBu_r" if signed else "viridis",
+        cmap = "RdBu_r" if signed else "viridis"
+        if key.startswith("S_"):  # the paper's measured field: iso-lines, with a colour bar
+            cs = ax.contour(X, Y, np.clip(f, -lim, lim), levels=8, cmap=cmap,
                             vmin=-lim if signed else None, vmax=lim if signed else None)
-            ax.clabel(cs, fontsize=6, fmt="%.3g")
+            ax.clabel(cs, fontsize=8, fmt="%.2g")
+            fig.colorbar(cs, ax=ax, label="kPa", shrink=0.85)
         else:
-            im = ax.pcolormesh(X, Y, f, shading="auto", cmap="RdBu_r" if signed else "viridis",
+            im = ax.pcolormesh(X, Y, f, shading="auto", cmap=cmap,
                                vmin=-lim if signed else 0.0, vmax=lim)
-            fig.colorbar(im, ax=ax, label="kPa", shrink=0.85)
+            fig.colorbar(im, ax=ax, label="kPa", shrink=0.85,
+                         extend=("both" if signed else "max") if lim < top else "neither")
         ax.contour(X, Y, contact.astype(float), levels=[0.5], colors="k", linewidths=0.8)
-        ax.set_title(title, fontsize=9)
+        ax.set_title(title, fontsize=10)
         ax.set_xlabel("x [mm] (sliding toward +x)")
         ax.set_ylabel("y [mm]")
         ax.set_aspect("equal")
-    for ax in axes.ravel()[len(panels):]:
+    # the line the sensor measures: y = 0 (issue 24)
+    ax = axes.ravel()[len(panels)]
+    j = int(np.argmin(np.abs(y)))
+    for key, label, style in (("pressure_Pa", "pressure p", "k-"),
+                              ("base_sigma_zz_Pa", "base sigma_zz", "C0-"),
+                              ("base_sigma_xz_Pa", "base sigma_xz", "C3-"),
+                              ("S_zz_Pa", "MEMS S_zz", "C0--"), ("S_xz_Pa", "MEMS S_xz", "C3--")):
+        if key in fields:
+            ax.plot(x[sx], fields[key][sx, j] / 1e3, style, lw=1.2, label=label)
+    ax.axhline(0.0, color="0.6", lw=0.5)
+    ax.set_title(f"the line y = {y[j]:.3g} mm", fontsize=10)
+    ax.set_xlabel("x [mm] (sliding toward +x)")
+    ax.set_ylabel("stress [kPa]")
+    ax.legend(fontsize=7)
+    for ax in axes.ravel()[len(panels) + 1:]:
         ax.set_visible(False)
+    note = (f"; colour scales clipped at the {MAP_CLIP_PERCENTILE:g}th percentile of |value| "
+            f"({', '.join(clipped)})" if clipped else "")
     fig.suptitle(f"{result.model} model, {s.indenter}: F = {s.force:g} N, mu_d = {s.mu:g}, "
                  f"E = {s.young / 1e6:g} MPa, R = {s.radius * 1e3:g} mm, "
-                 f"h = {s.thickness * 1e3:g} mm (black: contact outline)", fontsize=9)
+                 f"h = {s.thickness * 1e3:g} mm (black: contact outline){note}", fontsize=10,
+                 wrap=True)
     fig.tight_layout()
     return fig
+
+
+MAP_CLIP_PERCENTILE = 99.5
+"""The maps' colour scales end at this percentile of |value| in the window when the maximum is
+more than 5 % above it (singular edges: the finite cylinder's ends); the title says so."""

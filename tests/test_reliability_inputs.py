@@ -182,3 +182,18 @@ def test_line_plot_window_holds_the_base_stress_tails():
     outside = (x < lo) | (x > hi)
     assert np.max(base[outside], initial=0.0) < TAIL_FRACTION * base.max() * 1.01
     assert fig.texts and fig.texts[0].get_fontsize() >= 10  # a readable title
+
+
+def test_surface_maps_clip_singular_ends_and_show_the_line_y0():
+    """Finite cylinder: the pressure's colour scale ends at the 99.5th percentile (its ends
+    are singular) and the title says so; the MEMS iso-lines have a colour bar; a y = 0 panel."""
+    from spectral_contact.instruments.sensor import sensor_maps
+    from spectral_contact.result import MAP_CLIP_PERCENTILE
+
+    r = solve(indenter="cylinder", force=1.0, tol=1e-2, grid_points=128)
+    fig = r.plot(sensor=sensor_maps(r))
+    title = fig._suptitle.get_text()
+    assert f"{MAP_CLIP_PERCENTILE:g}th percentile" in title and "pressure" in title
+    titles = [a.get_title() for a in fig.axes]
+    assert any(t.startswith("the line y = ") for t in titles)
+    assert sum(a.get_ylabel() == "kPa" for a in fig.axes) == 7  # a colour bar per map
