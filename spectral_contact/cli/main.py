@@ -474,7 +474,8 @@ def main(argv=None) -> int:
         # command's stderr is its one error line, however loaded the machine (studies print
         # their own progress; calibrate its bootstrap i/n)
         quiet = args.command in ("study", "calibrate") or not _is_terminal(sys.stderr)
-        with show_progress(after=math.inf if quiet else 2.0):
+        with show_progress(after=math.inf if quiet else 2.0,
+                           skip=("spectral_contact.solvers",) if command == "compare" else ()):
             status = args.func(args)
         for text in _WARNINGS:
             print(text, file=sys.stderr)
