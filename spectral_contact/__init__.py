@@ -16,11 +16,12 @@ from .result import ContactResult, ContactResult3D
 
 __all__ = ["solve", "Scene", "Scene3D", "PAPER_SCENE", "ContactResult", "ContactResult3D",
            "InputError", "ConvergenceError",
-           "SpectralContactError", "METHODS", "MODELS", "sensor", "SensorView", "sweep",
+           "SpectralContactError", "METHODS", "MODELS", "sensor", "invert", "SensorView", "sweep",
            "__version__"]
 __version__ = "0.1.0"
 
-_LAZY = {"sensor": "spectral_contact.instruments.mems_view",
+_LAZY = {"invert": "spectral_contact.instruments.inverse",
+         "sensor": "spectral_contact.instruments.mems_view",
          "SensorView": "spectral_contact.instruments.mems_view"}
 
 

@@ -22,7 +22,8 @@ from . import files as _files
 __all__ = ["main", "build_parser"]
 
 # modules that add subcommands: each exposes register(subparsers)
-_PLUGINS = ("spectral_contact.cli.mems", "spectral_contact.cli.sweep")
+_PLUGINS = ("spectral_contact.cli.mems", "spectral_contact.cli.sweep",
+            "spectral_contact.cli.invert")
 
 
 class _Parser(argparse.ArgumentParser):

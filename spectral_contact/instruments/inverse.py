@@ -64,7 +64,7 @@ import numpy as np
 from ..errors import InputError
 from ..physics.film import Film
 
-__all__ = ["invert_line", "LineInversion", "LineForward", "fit_laws", "base_from_tractions",
+__all__ = ["invert", "read_record", "invert_line", "LineInversion", "LineForward", "fit_laws", "base_from_tractions",
            "INVERT_JSON_KEYS", "RESOLVED_Z", "MARGIN_H"]
 
 RESOLVED_Z = 3.0
@@ -73,6 +73,9 @@ MARGIN_H = 1.5
 """Traction nodes extend this many film thicknesses beyond each end of the record."""
 NODE_STEP_H = 0.125
 """Largest node step [h] (the data's step if coarser)."""
+LAW_EDGE_GUARD = 2.0
+"""The law fits use resolved nodes at least this many resolution lengths inside the contact
+interval's edges."""
 _FINE_STEP_H = 1.0 / 128.0
 _PAD_H = 40.0
 
@@ -177,7 +180,6 @@ class LineForward:
         coef = film.base_coefficients(k)
         gz, gx = (np.ones_like(k), np.ones_like(k)) if symbols is None else (symbols[0](k),
                                                                               symbols[1](k))
-        lags = (np.arange(nf) - nf // 2) * fine
 
         def kernels(phi):
             # response at the base of p = phi (sigma_zz(h) = -phi) and of q = phi
@@ -253,7 +255,7 @@ def _logistic(u):
 
 
 # hyperparameters: log l_p, log l_q, log s_p, log s_q, log s_out, log sigma_zz, log sigma_xz,
-# a, b (envelope edges, h), log e (envelope edge width, h)
+# c, log hw (envelope centre and half-width, h), log e (envelope edge width, h)
 _NPAR = 10
 
 
@@ -286,14 +288,15 @@ class _Evidence:
         if not self.envelope:
             one = np.ones_like(t)
             return s_in_p * one, s_in_q * one, {2: (s_in_p * one, 0 * one), 3: (0 * one, s_in_q * one)}
-        a, b, e = th[7], th[8], math.exp(th[9])
+        c, hw, e = th[7], math.exp(th[8]), math.exp(th[9])
+        a, b = c - hw, c + hw
         u, v = (t - a) / e, (b - t) / e
         su, sv = _logistic(u), _logistic(v)
         w = su * sv
         sp2, sq2 = s_in_p**2 * w + s_out**2, s_in_q**2 * w + s_out**2
         sp, sq = np.sqrt(sp2), np.sqrt(sq2)
-        dw = {7: -w * (1.0 - su) / e, 8: w * (1.0 - sv) / e,
-              9: -w * ((1.0 - su) * u + (1.0 - sv) * v)}
+        da, db = -w * (1.0 - su) / e, w * (1.0 - sv) / e
+        dw = {7: da + db, 8: hw * (db - da), 9: -w * ((1.0 - su) * u + (1.0 - sv) * v)}
         d = {2: (s_in_p**2 * w / sp, 0 * t), 3: (0 * t, s_in_q**2 * w / sq),
              4: (s_out**2 / sp, s_out**2 / sq)}
         for k, g in dw.items():
@@ -390,10 +393,11 @@ def _optimise(ev: _Evidence, dz, dx, dt):
     big = np.abs(dz) > 0.5 * np.max(np.abs(dz))
     a0 = float(x[big].min()) - 1.0 if big.any() else float(t[0])
     b0 = float(x[big].max()) + 1.0 if big.any() else float(t[-1])
+    c0, hw0 = 0.5 * (a0 + b0), 0.5 * (b0 - a0)
     lo = np.array([math.log(max(dt, 0.05))] * 2 + [math.log(1e-4 * scale)] * 3
-                  + [math.log(1e-7 * scale)] * 2 + [t[0], t[0], math.log(max(dt / 2, 0.02))])
+                  + [math.log(1e-7 * scale)] * 2 + [t[0], math.log(max(dt, 0.05)), math.log(max(dt / 2, 0.02))])
     hi = np.array([math.log(20.0)] * 2 + [math.log(1e3 * scale)] * 3
-                  + [math.log(10 * scale)] * 2 + [t[-1], t[-1], math.log(5.0)])
+                  + [math.log(10 * scale)] * 2 + [t[-1], math.log(t[-1] - t[0]), math.log(5.0)])
     lo[9] = math.log(max(ENVELOPE_EDGE_MIN_H, dt / 2))
     free = np.ones(_NPAR, bool)
     if not ev.envelope:
@@ -401,7 +405,7 @@ def _optimise(ev: _Evidence, dz, dx, dt):
     best = None
     for l0 in (0.3, 0.8):
         th0 = np.array([math.log(l0), math.log(l0), math.log(scale), math.log(0.5 * scale),
-                        math.log(0.02 * scale), math.log(nz0), math.log(nx0), a0, b0,
+                        math.log(0.02 * scale), math.log(nz0), math.log(nx0), c0, math.log(hw0),
                         math.log(0.5)])
         th0 = np.clip(th0, lo, hi)
 
@@ -685,7 +689,8 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
     scale = max(float(np.max(np.abs(dz))), float(np.max(np.abs(dxz))))
     xh = x / h
     film = Film(1.0, nu)
-    fwd = LineForward.build(xh, film, _symbols(apparatus, h), support=sup_h)
+    symbols = _symbols(apparatus, h)
+    fwd = LineForward.build(xh, film, symbols, support=sup_h)
     m = fwd.nodes.size
     zs, xs = dz / scale, dxz / scale
     ev = _Evidence(fwd, zs, xs, envelope=sup_h is None)
@@ -717,9 +722,16 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
     # contact interval from posterior draws
     interval, interval_sd = _contact_interval(fwd.nodes * h, p, cov_si[:m, :m], sp_, draws, seed)
     # resolution length: equivalent width of the resolution-matrix row at the peak of p
-    res_len = _resolution_length(fwd, cov, H, p, h)
-    # laws on resolved pairs
-    idx = np.nonzero(resolved)[0]
+    res_len = _resolution_length(fwd, symbols, film, min(nz, nx) * scale, x.size,
+                                 float(np.max(p)), h)
+    # laws on resolved pairs away from the contact edges (there the smoothing mixes in the
+    # zeros outside and the steps of a shear strength: LAW_EDGE_GUARD resolution lengths)
+    xn = fwd.nodes * h
+    inside = np.ones(m, bool)
+    if np.all(np.isfinite(interval)):
+        g = LAW_EDGE_GUARD * res_len if math.isfinite(res_len) else 0.0
+        inside = (xn > interval[0] + g) & (xn < interval[1] - g)
+    idx = np.nonzero(resolved & inside)[0]
     laws = fit_laws(p[idx], q[idx], cov_si[np.ix_(idx, idx)], cov_si[np.ix_(m + idx, m + idx)],
                     cov_si[np.ix_(idx, m + idx)])
     fz, fx = fwd.apply(mean[:m], mean[m:])
@@ -728,12 +740,14 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
            "Q_over_P": ratio, "Q_over_P_sigma": math.sqrt(max(vR, 0.0)),
            "contact_interval_m": interval, "contact_interval_sigma_m": interval_sd,
            "resolution_length_m": res_len,
-           "regularisation": {"prior": "Matern-5/2 Gaussian processes for p and q, zero mean",
+           "regularisation": {"prior": f"Matern-{2 * KERNEL_NU:g}/2 Gaussian processes for p and q, zero "
+                                       f"mean, amplitude envelope",
                               "length_p_m": float(lp * h), "length_q_m": float(lq * h),
                               "amplitude_p_Pa": float(sp * scale),
                               "amplitude_q_Pa": float(sq * scale),
                               "amplitude_outside_Pa": float(s_out * scale) if free[4] else None,
-                              "window_m": ([float(theta[7] * h), float(theta[8] * h)]
+                              "window_m": ([float((theta[7] - math.exp(theta[8])) * h),
+                                            float((theta[7] + math.exp(theta[8])) * h)]
                                            if free[7] else None),
                               "window_edge_m": float(math.exp(theta[9]) * h) if free[9] else None,
                               "chosen_by": "maximum evidence (marginal likelihood)"},
@@ -803,14 +817,95 @@ def _contact_interval(t, p, Cpp, sd, draws, seed):
     return [float(e0[0]), float(e0[1])], [float(sd_e[0]), float(sd_e[1])]
 
 
-def _resolution_length(fwd, cov, H, p, h):
-    """Equivalent width [m] of the resolution-matrix row of p at its peak: R = Cov H
-    (the posterior mean is R (truth) + a noise part), row j: (Int R)^2 / Int R^2."""
-    m = fwd.nodes.size
-    j = int(np.argmax(p))
-    row = cov[j] @ H
-    r = row[:m] * fwd.weights / fwd.weights[j]
-    den = float(np.sum(r * r))
-    if den <= 0:
-        return float("nan")
-    return float(np.sum(r) ** 2 / den * fwd.weights[j] * h)
+def _resolution_length(fwd, symbols, film, noise_sd, n, peak, h):
+    """Resolution length [m]: pi / k_c, k_c the largest wavenumber at which a sinusoidal
+    traction of the peak pressure's amplitude still shows in the data at 3 noise sd: its base
+    (or sensor) amplitude max(|A g_zz|, |C g_xz|, |B g|) times the peak exceeds 3 sigma
+    sqrt(2/n) (the sd of a sinusoid's amplitude fitted to n samples of white noise sigma).
+    What the film (A, B, C), the apparatus (g) and the noise allow; the posterior's own
+    smoothing is at least this."""
+    k = np.linspace(0.0, 60.0, 6001)[1:]
+    A, iB, _, C, _ = film.base_coefficients(k)
+    gz, gx = (1.0, 1.0) if symbols is None else (symbols[0](k), symbols[1](k))
+    T = np.maximum.reduce([np.abs(A * gz), np.abs(C * gx), np.abs(iB * gz), np.abs(iB * gx)])
+    seen = T * peak >= 3.0 * noise_sd * math.sqrt(2.0 / n)
+    if not seen.any():
+        return float("inf")
+    kc = float(k[np.nonzero(seen)[0].max()])
+    return math.pi / kc * h
+
+
+# --- entry: files, results, arrays ------------------------------------------------------------
+
+_VIEWS = {"S": ("x_m", "S_zz_Pa", "S_xz_Pa"), "U": ("x_m", "U_zz_mV", "U_xz_mV"),
+          "base": ("x_m", "base_sigma_zz_Pa", "base_sigma_xz_Pa")}
+
+
+def read_record(path, A_zz_mV_per_bar: float | None = None, A_xz_mV_per_bar: float | None = None):
+    """A line record from a CSV: ``x_m,S_zz_Pa,S_xz_Pa`` (the MEMS view, S_zz > 0 in
+    compression), ``x_m,U_zz_mV,U_xz_mV`` (outputs; divided by the gains A [mV/bar], paper's by
+    default) or ``x_m,base_sigma_zz_Pa,base_sigma_xz_Pa`` (base stresses, the package's names
+    and signs: sigma_zz < 0 in compression).  One view per file; x uniform and increasing, at
+    least 8 rows.  Returns (x_m, d_zz, d_xz, view) with d_zz > 0 in compression and view
+    "sensor" or "base".  Raises InputError (one line naming the file)."""
+    from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR, PA_PER_BAR
+    from .measured_io import check_uniform, read_table
+
+    name = str(path)
+    what = " or ".join(",".join(v) for v in _VIEWS.values())
+    cols = read_table(path, required=("x_m",), any_of=tuple(_VIEWS.values()), what=what)
+    present = [k for k, v in _VIEWS.items() if any(c in cols for c in v[1:])]
+    if len(present) > 1:
+        names = ", ".join(c for k in present for c in _VIEWS[k][1:] if c in cols)
+        raise InputError(f"{name}: mixes views ({names}); give one of {what}")
+    kind = present[0]
+    x = cols["x_m"]
+    check_uniform(x, name, "x_m")
+    zz, xz = cols[_VIEWS[kind][1]], cols[_VIEWS[kind][2]]
+    if kind == "base":
+        return x, -zz, xz, "base"
+    if kind == "U":
+        a_zz = A_ZZ_MV_PER_BAR if A_zz_mV_per_bar is None else A_zz_mV_per_bar
+        a_xz = A_XZ_MV_PER_BAR if A_xz_mV_per_bar is None else A_xz_mV_per_bar
+        return x, zz * PA_PER_BAR / a_zz, xz * PA_PER_BAR / a_xz, "sensor"
+    return x, zz, xz, "sensor"
+
+
+def invert(source=None, *, x_m=None, zz_Pa=None, xz_Pa=None, view: str | None = None,
+           thickness: float | None = None, poisson: float | None = None, apparatus=None,
+           A_zz_mV_per_bar: float | None = None, A_xz_mV_per_bar: float | None = None,
+           positive: bool = False, support=None) -> LineInversion:
+    """Interface tractions p(x), q(x) with uncertainties from a line record of base stresses.
+
+        >>> from spectral_contact import invert, solve
+        >>> inv = invert(solve(load=200, mu=1))          # its base stresses, noise-free
+        >>> inv.summary()["load_N_per_m"], inv.laws["best"]
+        >>> inv = invert("record.csv", thickness=0.002)  # a measured file (see ``read_record``)
+        >>> inv.plot()
+
+    source : a CSV path (``read_record``; S/U files are read through the apparatus), a
+        ``ContactResult`` (its base stresses on its grid, view "base"; thickness and poisson
+        from its scene), or None with ``x_m, zz_Pa, xz_Pa`` arrays (zz > 0 in compression:
+        -sigma_zz(x, 0) or S_zz) and ``view`` ("base" default, or "sensor").
+    thickness [m] (default 0.002 or the result's), poisson (0.5 or the result's): the film.
+    apparatus : sensor views only: None (the paper's G_zz, G_xz) or a pair of
+        ``ApparatusFunction`` (``instruments.apparatus.load_apparatus_csv``).
+    positive, support : see ``invert_line``.
+    """
+    if source is not None and hasattr(source, "base_sigma_zz_Pa"):
+        r = source
+        x = np.asarray(r.x_m, float)
+        zz, xz, kind = -np.asarray(r.base_sigma_zz_Pa), np.asarray(r.base_sigma_xz_Pa), "base"
+        thickness = r.scene.thickness if thickness is None else thickness
+        poisson = r.scene.poisson if poisson is None else poisson
+    elif source is not None:
+        x, zz, xz, kind = read_record(source, A_zz_mV_per_bar, A_xz_mV_per_bar)
+        if view is not None and view != kind:
+            raise InputError(f"{source}: holds a {kind} record; view={view!r} does not apply")
+    else:
+        if x_m is None or zz_Pa is None or xz_Pa is None:
+            raise InputError("give a source (file or result) or x_m, zz_Pa and xz_Pa")
+        x, zz, xz, kind = x_m, zz_Pa, xz_Pa, view or "base"
+    return invert_line(x, zz, xz, thickness=0.002 if thickness is None else thickness,
+                       poisson=0.5 if poisson is None else poisson, view=kind,
+                       apparatus=apparatus, positive=positive, support=support)
