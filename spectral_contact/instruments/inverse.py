@@ -255,18 +255,23 @@ def _logistic(u):
 
 
 # hyperparameters: log l_p, log l_q, log s_p, log s_q, log s_out, log sigma_zz, log sigma_xz,
-# c, log hw (envelope centre and half-width, h), log e (envelope edge width, h)
-_NPAR = 10
+# c, log hw (envelope centre and half-width, h), log e (envelope edge width, h),
+# log r_p, log r_q (amplitudes of the rough edge component), log l_r (its length)
+_NPAR = 13
 
 
 class _Evidence:
     """Sufficient statistics of a record for the Gaussian model; log-evidence and its gradient.
 
-    Prior: p ~ GP(0, D_p C(l_p) D_p), q ~ GP(0, D_q C(l_q) D_q), C the Matern-5/2 correlation,
-    D = diag(s(t)), s(t)^2 = s_in^2 w(t) + s_out^2 with the envelope w = logistic((t - a)/e)
-    logistic((b - t)/e): the tractions are allowed amplitude s_in inside a window [a, b] and
-    s_out outside it (the evidence places the window, so no support is assumed; with a known
-    support w = 1 on it and s_out is not used)."""
+    Prior, for each traction f in (p, q): the sum of two independent zero-mean Gaussian
+    processes, a smooth one D_f C(l_f) D_f (C the Matern-``KERNEL_NU`` correlation) and a
+    rough one at the contact's edges E_f C_1/2(l_r) E_f (exponential correlation: continuous,
+    nowhere differentiable, as sqrt edges and steps are), with D = diag(s(t)),
+    s(t)^2 = s_f^2 w(t) + s_out^2 and E = diag(e(t)), e(t)^2 = r_f^2 4 w(t) (1 - w(t)), where
+    w = logistic((t - a)/e) logistic((b - t)/e) is an envelope whose window [a, b] and edge width
+    e are hyperparameters: amplitude s_f inside, s_out outside, and the roughness where the
+    contact ends (the evidence places the window, so no support is assumed).  With a known
+    support w = 1 on it, s_out is not used and the rough part has a uniform amplitude r_f."""
 
     def __init__(self, fwd: LineForward, dz, dx, envelope=True):
         self.fwd = fwd
@@ -282,44 +287,65 @@ class _Evidence:
         self.jitter = 1e-8
 
     def _amplitudes(self, th):
-        """s_p(t), s_q(t) and their derivatives d s / d(theta_k) for k in 2..9 (dict)."""
+        """Amplitude profiles (s, e) of the smooth and rough parts (p and q stacked) and their
+        derivatives {k: (ds/dtheta_k, de/dtheta_k)}."""
         t = self.t
+        z = 0.0 * t
         s_in_p, s_in_q, s_out = math.exp(th[2]), math.exp(th[3]), math.exp(th[4])
+        r_p, r_q = math.exp(th[10]), math.exp(th[11])
         if not self.envelope:
             one = np.ones_like(t)
-            return s_in_p * one, s_in_q * one, {2: (s_in_p * one, 0 * one), 3: (0 * one, s_in_q * one)}
-        c, hw, e = th[7], math.exp(th[8]), math.exp(th[9])
+            s = np.concatenate([s_in_p * one, s_in_q * one])
+            e = np.concatenate([r_p * one, r_q * one])
+            zz = np.zeros(2 * t.size)
+            return s, e, {2: (np.concatenate([s_in_p * one, z]), zz),
+                          3: (np.concatenate([z, s_in_q * one]), zz),
+                          10: (zz, np.concatenate([r_p * one, z])),
+                          11: (zz, np.concatenate([z, r_q * one]))}
+        c, hw, ew = th[7], math.exp(th[8]), math.exp(th[9])
         a, b = c - hw, c + hw
-        u, v = (t - a) / e, (b - t) / e
+        u, v = (t - a) / ew, (b - t) / ew
         su, sv = _logistic(u), _logistic(v)
         w = su * sv
-        sp2, sq2 = s_in_p**2 * w + s_out**2, s_in_q**2 * w + s_out**2
-        sp, sq = np.sqrt(sp2), np.sqrt(sq2)
-        da, db = -w * (1.0 - su) / e, w * (1.0 - sv) / e
+        sp = np.sqrt(s_in_p**2 * w + s_out**2)
+        sq = np.sqrt(s_in_q**2 * w + s_out**2)
+        edge = 4.0 * w * (1.0 - w) + 1e-12
+        ep, eq = r_p * np.sqrt(edge), r_q * np.sqrt(edge)
+        da, db = -w * (1.0 - su) / ew, w * (1.0 - sv) / ew
         dw = {7: da + db, 8: hw * (db - da), 9: -w * ((1.0 - su) * u + (1.0 - sv) * v)}
-        d = {2: (s_in_p**2 * w / sp, 0 * t), 3: (0 * t, s_in_q**2 * w / sq),
-             4: (s_out**2 / sp, s_out**2 / sq)}
+        zz = np.zeros(2 * t.size)
+        d = {2: (np.concatenate([s_in_p**2 * w / sp, z]), zz),
+             3: (np.concatenate([z, s_in_q**2 * w / sq]), zz),
+             4: (np.concatenate([s_out**2 / sp, s_out**2 / sq]), zz),
+             10: (zz, np.concatenate([ep, z])), 11: (zz, np.concatenate([z, eq]))}
         for k, g in dw.items():
-            d[k] = (0.5 * s_in_p**2 * g / sp, 0.5 * s_in_q**2 * g / sq)
-        return sp, sq, d
+            dedge = 4.0 * (1.0 - 2.0 * w) * g
+            d[k] = (np.concatenate([0.5 * s_in_p**2 * g / sp, 0.5 * s_in_q**2 * g / sq]),
+                    np.concatenate([0.5 * r_p**2 * dedge / ep, 0.5 * r_q**2 * dedge / eq]))
+        return np.concatenate([sp, sq]), np.concatenate([ep, eq]), d
 
     def evaluate(self, th, grad=False, full=False):
         m = self.m
-        lp, lq = math.exp(th[0]), math.exp(th[1])
+        lp, lq, lr = math.exp(th[0]), math.exp(th[1]), math.exp(th[12])
         nz, nx = math.exp(th[5]), math.exp(th[6])
         Cp, dCp = _matern52(self.t, lp)
         Cq, dCq = _matern52(self.t, lq)
-        sp, sq, dsd = self._amplitudes(th)
-        s = np.concatenate([sp, sq])
+        Cr, dCr = _matern52(self.t, lr, 0.5)
+        s, e, dsd = self._amplitudes(th)
         C = np.zeros((2 * m, 2 * m))
         C[:m, :m], C[m:, m:] = Cp, Cq
         C[np.diag_indices_from(C)] += self.jitter
-        K = s[:, None] * C * s[None, :]
+        C2 = np.zeros((2 * m, 2 * m))
+        C2[:m, :m] = C2[m:, m:] = Cr
+        K = s[:, None] * C * s[None, :] + e[:, None] * C2 * e[None, :]
         H = self.Gz / nz**2 + self.Gx / nx**2
         b = self.bz / nz**2 + self.bx / nx**2
-        # evidence through B = I + S^T H S with K = S S^T (Cholesky), stable for small s
-        Lk = np.linalg.cholesky(K)
-        B = Lk.T @ H @ Lk
+        Lk = np.zeros_like(K)
+        Lk[:m, :m] = np.linalg.cholesky(K[:m, :m])
+        Lk[m:, m:] = np.linalg.cholesky(K[m:, m:])
+        Lp, Lq = Lk[:m, :m], Lk[m:, m:]  # block-diagonal: Lk^T H Lk by blocks
+        HL = np.hstack([H[:, :m] @ Lp, H[:, m:] @ Lq])
+        B = np.vstack([Lp.T @ HL[:m], Lq.T @ HL[m:]])
         B[np.diag_indices_from(B)] += 1.0
         Lb = np.linalg.cholesky(B)
         beta = Lk.T @ b
@@ -331,22 +357,29 @@ class _Evidence:
         logev = -0.5 * quad - 0.5 * logdet - n * (th[5] + th[6]) - n * math.log(2.0 * math.pi)
         if not (grad or full):
             return logev
-        Li = np.linalg.solve(Lb, Lk.T)  # posterior covariance S = Li^T Li
+        from scipy.linalg import solve_triangular
+
+        Li = solve_triangular(Lb, Lk.T, lower=True)  # posterior covariance S = Li^T Li
         S = Li.T @ Li
         out = [logev]
         if grad:
             g = np.zeros(_NPAR)
             # prior parameters: d logev = 1/2 tr(W dK), W = K^-1 (mu mu^T + S) K^-1 - K^-1
-            Kinv = _cho_inv(Lk)
-            Km = Kinv @ mu
-            W = np.outer(Km, Km) + Kinv @ S @ Kinv - Kinv
+            # = Km Km^T - (K + H^-1)^-1 with Km = K^-1 mu = b - H mu and (Woodbury)
+            # (K + H^-1)^-1 = H - H S H: no inverse of the (ill-conditioned) prior covariance
+            Km = b - H @ mu
+            HS = H @ S
+            W = np.outer(Km, Km) - H + HS @ H
             W = 0.5 * (W + W.T)
-            sd = s[:, None] * s[None, :]
-            g[0] = 0.5 * np.sum(W[:m, :m] * dCp * sd[:m, :m])
-            g[1] = 0.5 * np.sum(W[m:, m:] * dCq * sd[m:, m:])
-            WC = (W * C) @ s
-            for k, (dp, dq) in dsd.items():
-                g[k] = float(np.concatenate([dp, dq]) @ WC)
+            ss = s[:, None] * s[None, :]
+            ee = e[:, None] * e[None, :]
+            g[0] = 0.5 * np.sum(W[:m, :m] * dCp * ss[:m, :m])
+            g[1] = 0.5 * np.sum(W[m:, m:] * dCq * ss[m:, m:])
+            g[12] = 0.5 * (np.sum(W[:m, :m] * dCr * ee[:m, :m])
+                           + np.sum(W[m:, m:] * dCr * ee[m:, m:]))
+            WC, WC2 = (W * C) @ s, (W * C2) @ e
+            for k, (ds_, de_) in dsd.items():
+                g[k] = float(ds_ @ WC + de_ @ WC2)
             # noise: d logev / d log sigma_c = -n + |r_c|^2 / sigma_c^2 + tr(G_c S) / sigma_c^2
             for k, G, bb, ee, sig in ((5, self.Gz, self.bz, self.ez, nz),
                                       (6, self.Gx, self.bx, self.ex, nx)):
@@ -399,14 +432,17 @@ def _optimise(ev: _Evidence, dz, dx, dt):
     hi = np.array([math.log(20.0)] * 2 + [math.log(1e3 * scale)] * 3
                   + [math.log(10 * scale)] * 2 + [t[-1], math.log(t[-1] - t[0]), math.log(5.0)])
     lo[9] = math.log(max(ENVELOPE_EDGE_MIN_H, dt / 2))
+    lo = np.concatenate([lo, [math.log(1e-4 * scale)] * 2 + [math.log(max(dt, 0.05))]])
+    hi = np.concatenate([hi, [math.log(1e3 * scale)] * 2 + [math.log(20.0)]])
     free = np.ones(_NPAR, bool)
     if not ev.envelope:
         free[[4, 7, 8, 9]] = False
     best = None
-    for l0 in (0.3, 0.8):
+    for l0 in (0.8,):
         th0 = np.array([math.log(l0), math.log(l0), math.log(scale), math.log(0.5 * scale),
                         math.log(0.02 * scale), math.log(nz0), math.log(nx0), c0, math.log(hw0),
-                        math.log(0.5)])
+                        math.log(0.5), math.log(0.2 * scale), math.log(0.2 * scale),
+                        math.log(0.3)])
         th0 = np.clip(th0, lo, hi)
 
         def f(z, th0=th0):
@@ -422,7 +458,7 @@ def _optimise(ev: _Evidence, dz, dx, dt):
 
         res = minimize(f, th0[free], jac=True, method="L-BFGS-B",
                        bounds=list(zip(lo[free], hi[free])),
-                       options={"maxiter": 300, "ftol": 1e-12, "gtol": 1e-6})
+                       options={"maxiter": 300, "ftol": 1e-10, "gtol": 1e-3})
         th = th0.copy()
         th[free] = res.x
         if best is None or -res.fun > best[1]:
@@ -740,8 +776,12 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
            "Q_over_P": ratio, "Q_over_P_sigma": math.sqrt(max(vR, 0.0)),
            "contact_interval_m": interval, "contact_interval_sigma_m": interval_sd,
            "resolution_length_m": res_len,
-           "regularisation": {"prior": f"Matern-{2 * KERNEL_NU:g}/2 Gaussian processes for p and q, zero "
-                                       f"mean, amplitude envelope",
+           "regularisation": {"prior": f"p, q: Matern-{2 * KERNEL_NU:g}/2 Gaussian process inside an "
+                                       f"envelope + exponential-correlation process at its "
+                                       f"edges, zero mean",
+                              "rough_amplitude_p_Pa": float(math.exp(theta[10]) * scale),
+                              "rough_amplitude_q_Pa": float(math.exp(theta[11]) * scale),
+                              "rough_length_m": float(math.exp(theta[12]) * h),
                               "length_p_m": float(lp * h), "length_q_m": float(lq * h),
                               "amplitude_p_Pa": float(sp * scale),
                               "amplitude_q_Pa": float(sq * scale),
