@@ -13,7 +13,7 @@ import os
 from ..errors import InputError
 from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR
 from .files import Outputs, add_meta, check_outputs, check_plot_path, to_json, write_csv
-from .mems import _apparatus, _positive
+from .mems import _apparatus, _positive, _scene_options
 
 __all__ = ["register", "CSV_COLUMNS"]
 
@@ -32,9 +32,8 @@ def register(subparsers) -> None:
                     "p > 3 sd, contact interval, resolution length, and fits of Amontons, "
                     "q = tau0 + alpha p and a power law to the local (p, q) pairs (JSON 'laws').")
     p.add_argument("record", metavar="FILE", help="CSV line record (uniform x_m, >= 8 rows)")
-    p.add_argument("--thickness", type=_positive("--thickness"), default=0.002,
-                   help="film thickness h [m] (0.002); base stresses do not depend on E or R")
-    p.add_argument("--poisson", type=float, default=0.5, help="nu of the film, in [0, 0.5] (0.5)")
+    _scene_options(p, ("thickness", "poisson"),
+                   {"thickness": "base stresses do not depend on E or R"})
     p.add_argument("--a-zz", type=_positive("--a-zz"), default=A_ZZ_MV_PER_BAR,
                    help=f"A_zz [mV/bar] for U files ({A_ZZ_MV_PER_BAR:.2f})")
     p.add_argument("--a-xz", type=_positive("--a-xz"), default=A_XZ_MV_PER_BAR,

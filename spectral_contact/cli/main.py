@@ -15,15 +15,20 @@ import sys
 import threading
 
 from ..errors import ConvergenceError, InputError, SpectralContactError
-from ..physics.scene import PAPER_SCENE
 from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR
 from . import files as _files
+from .scene_options import add_scene_options, add_solve_options, scene_from_args
 
 __all__ = ["main", "build_parser"]
 
-# modules that add subcommands: each exposes register(subparsers)
-_PLUGINS = ("spectral_contact.cli.mems", "spectral_contact.cli.sweep",
-            "spectral_contact.cli.invert")
+
+
+def _plugins():
+    """The subcommands' modules beside ``solve`` and ``study``: each exposes register(subparsers)
+    (a new subcommand: its module in cli/ and one line here)."""
+    from . import invert, mems, onset, sweep
+
+    return (mems.register, sweep.register, onset.register, invert.register)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -31,52 +36,21 @@ class _Parser(argparse.ArgumentParser):
         raise InputError(f"{self.prog}: {message}")
 
 
-def _add_scene_options(p):
-    d = PAPER_SCENE
-    p.add_argument("--indenter", choices=("line", "sphere", "cylinder", "paraboloid"), default="line",
-                   help="line: the plane-strain cylinder of the paper (--load, N/m); sphere, "
-                        "cylinder (finite length along y, sharp ends), paraboloid (--radius-x, "
-                        "--radius-y): 3D, pressed with --force [N] (default line)")
-    p.add_argument("--load", type=float, default=None,
-                   help=f"P_L, lineic load [N/m], line indenter only (default {d.load:g})")
-    p.add_argument("--force", type=float, default=None,
-                   help="F, total normal force [N], 3D indenters only (default 1)")
-    p.add_argument("--length", type=float, default=None,
-                   help="cylinder length along y [m] (default 0.008: the paper's cover slide)")
-    p.add_argument("--radius-x", type=float, default=None,
-                   help="paraboloid radius along x, the sliding direction [m] (default --radius)")
-    p.add_argument("--radius-y", type=float, default=None,
-                   help="paraboloid radius along y [m] (default --radius)")
-    p.add_argument("--mu", type=float, default=d.mu,
-                   help=f"mu_d, friction coefficient, signed: < 0 slides toward -x (default {d.mu:g})")
-    p.add_argument("--young", type=float, default=d.young, help=f"E [Pa] (default {d.young:g})")
-    p.add_argument("--radius", type=float, default=d.radius, help=f"R [m] (default {d.radius:g})")
-    p.add_argument("--thickness", type=float, default=d.thickness, help=f"h [m] (default {d.thickness:g})")
-    p.add_argument("--poisson", type=float, default=d.poisson,
-                   help=f"nu, the film's Poisson ratio in [0, 0.5] (default {d.poisson:g}: "
-                        "incompressible; < 0.5 needs --method fft)")
-    p.add_argument("--friction-law", choices=("amontons", "power", "linear"), default="amontons",
-                   help="amontons: q = mu p (default); power: q = mu (p/p_ref)^-n p; "
-                        "linear: q = tau_0 + alpha p in the contact (--method fft)")
-    p.add_argument("--friction-exponent", type=float, default=None,
-                   help="n of the power law, in [0, 1) (default 0)")
-    p.add_argument("--friction-pref", type=float, default=None, help="p_ref of the power law [Pa], > 0")
-    p.add_argument("--shear-strength", type=float, default=None,
-                   help="tau_0 of the linear law [Pa] (same sign as --shear-slope)")
-    p.add_argument("--shear-slope", type=float, default=None, help="alpha of the linear law")
-    p.add_argument("--interface-compliance", type=float, default=0.0,
-                   help="C [m/Pa] >= 0: the interface closes by C p (default 0: rigid; --method fft)")
-    p.add_argument("--interface-law", choices=("linear", "exponential"), default="linear",
-                   help="linear: --interface-compliance (default); exponential: p = p0 exp(-g/lambda) "
-                        "at an interface gap g (soft edges; --method fft, Amontons friction)")
-    p.add_argument("--interface-pressure", type=float, default=None,
-                   help="p0 of the exponential interface law [Pa], > 0")
-    p.add_argument("--interface-length", type=float, default=None,
-                   help="lambda of the exponential interface law [m], > 0")
-
-
 def _plural(n: int, word: str) -> str:
     return f"{n} {word}" + ("" if n == 1 else "s")
+
+
+def _law_text(s: dict) -> str:
+    """The friction law with its parameters, for a summary's header (the linear law does not
+    use mu_d: it is not shown then)."""
+    law = s.get("friction_law", "amontons")
+    if law == "linear":
+        return (f"q = tau_0 + alpha p with tau_0 = {s['shear_strength_Pa']:g} Pa, alpha = "
+                f"{s['shear_slope']:g}")
+    if law == "power":
+        return (f"mu_d = {s['mu']:g} (p/p_ref)^-n with n = {s['friction_exponent']:g}, p_ref = "
+                f"{s['friction_pref_Pa']:g} Pa")
+    return f"mu_d = {s['mu']:g}"
 
 
 def _summary_text(r, view=None) -> str:
@@ -89,7 +63,7 @@ def _summary_text(r, view=None) -> str:
     loaded = s["max_pressure_Pa"] > 0
     at = f" at x = {s['max_pressure_x_m'] * mm:.4f} mm" if loaded else ""
     lines = [
-        f"{s['model']} model, {s['method']} method: P_L = {s['load_N_per_m']:g} N/m, mu_d = {s['mu']:g}, "
+        f"{s['model']} model, {s['method']} method: P_L = {s['load_N_per_m']:g} N/m, {_law_text(s)}, "
         f"E = {s['young_Pa'] / 1e6:g} MPa, R = {s['radius_m'] * mm:g} mm, h = {s['thickness_m'] * mm:g} mm"
         + (f", nu = {s['poisson']:g}" if s["poisson"] != 0.5 else ""),
         f"  contact half-width a     {s['half_width_m'] * mm:10.5f} mm",
@@ -159,20 +133,14 @@ def _cmd_solve(args) -> int:
     from ..physics.scene import Scene
     from .files import Outputs, add_meta, check_outputs, check_plot_path, json_ready, to_json, write_csv
 
-    if args.indenter != "line":
-        return _cmd_solve3d(args)
-    for opt in ("force", "length", "radius_x", "radius_y", "maps"):
-        if getattr(args, opt) is not None:
-            raise InputError(f"--{opt.replace('_', '-')} is for 3D indenters (--indenter sphere, "
-                             f"cylinder, paraboloid); the line indenter takes --load [N/m]")
-    scene = Scene(load=PAPER_SCENE.load if args.load is None else args.load, mu=args.mu,
-                  young=args.young, radius=args.radius, thickness=args.thickness,
-                  poisson=args.poisson, friction_law=args.friction_law,
-                  friction_exponent=args.friction_exponent, friction_pref=args.friction_pref,
-                  shear_strength=args.shear_strength, shear_slope=args.shear_slope,
-                  interface_compliance=args.interface_compliance, interface_law=args.interface_law,
-                  interface_pressure=args.interface_pressure, interface_length=args.interface_length)
-    outputs = check_outputs(**{"--profiles": args.profiles, "--plot": args.plot})
+    scene = scene_from_args(args)
+    if not isinstance(scene, Scene):
+        return _cmd_solve3d(args, scene)
+    if args.maps is not None:
+        raise InputError("--maps is for 3D indenters (--indenter sphere, cylinder, paraboloid); "
+                         "the line indenter takes --profiles")
+    outputs = check_outputs(inputs=_inputs(args), metas=("--profiles",),
+                            **{"--profiles": args.profiles, "--plot": args.plot})
     if args.plot is not None:
         check_plot_path(args.plot)
     apparatus = None
@@ -207,14 +175,19 @@ def _cmd_solve(args) -> int:
             from .plots import plot_result
 
             plot_result(r, outs.path(outputs["--plot"]), sensor=view)
-    if args.json:
-        print(to_json(json_ready(record)))  # null, not NaN (no peak at zero load)
-    else:
-        print(_summary_text(r, view))
+        # stdout is one of the outputs: written, then the files renamed, or nothing at all
+        outs.print(to_json(json_ready(record)) if args.json  # null, not NaN (no peak at zero load)
+                   else _summary_text(r, view))
     return 0
 
 
-def _summary_text3d(r) -> str:
+def _inputs(args) -> dict:
+    """The files ``solve`` reads (no output may name one of them)."""
+    return {"--apparatus-zz": getattr(args, "apparatus_zz", None),
+            "--apparatus-xz": getattr(args, "apparatus_xz", None)}
+
+
+def _summary_text3d(r, sensor=None) -> str:
     s = r.summary()
     mm, kPa = 1e3, 1e-3
     extra = {"cylinder": f", length {s.get('length_m', 0) * mm:g} mm",
@@ -222,7 +195,7 @@ def _summary_text3d(r) -> str:
                            f"R_y = {s.get('radius_y_m', 0) * mm:g} mm"}.get(s["indenter"], "")
     lines = [
         f"{s['model']} model, {s['method']} method, {s['indenter']}{extra}: F = {s['force_N']:g} N, "
-        f"mu_d = {s['mu']:g}, E = {s['young_Pa'] / 1e6:g} MPa, R = {s['radius_m'] * mm:g} mm, "
+        f"{_law_text(s)}, E = {s['young_Pa'] / 1e6:g} MPa, R = {s['radius_m'] * mm:g} mm, "
         f"h = {s['thickness_m'] * mm:g} mm",
         f"  contact area             {s['contact_area_m2'] * 1e6:10.5f} mm^2 "
         f"(radius sqrt(A/pi) {s['contact_radius_m'] * mm:.5f} mm)",
@@ -240,44 +213,31 @@ def _summary_text3d(r) -> str:
         f"{s['error_estimate']:.1e}, solve {s['wall_time_s'] * 1e3:.0f} ms "
         f"(+ planning {s['plan_time_s'] * 1e3:.0f} ms)",
     ]
+    if sensor is not None:  # the sensor peaks, as in the line summary (x, y of each peak)
+        import numpy as np
+
+        x, y = r.maps()["x_m"], r.maps()["y_m"]
+        for c in ("zz", "xz"):
+            S, U = sensor[f"S_{c}_Pa"], sensor[f"U_{c}_mV"]
+            i, j = np.unravel_index(int(np.argmax(np.abs(S))), S.shape)
+            lines.append(f"  sensor peak S_{c}         {S[i, j] * kPa:10.4f} kPa at ({x[i] * mm:.4f}, "
+                         f"{y[j] * mm:.4f}) mm   (U_{c} = {U[i, j]:.4f} mV)")
     if r.scene.indenter == "cylinder":
         lines.append("  (sharp ends: the peak pressure there grows with the resolution; it is "
                      "reported, not controlled by --tol)")
     return "\n".join(lines)
 
 
-def _cmd_solve3d(args) -> int:
+def _cmd_solve3d(args, scene) -> int:
     import numpy as np
 
     from ..api import solve
-    from ..physics.scene import Scene3D
-    from .files import Outputs, check_outputs, check_plot_path, to_json, write_csv
+    from .files import Outputs, add_meta, check_outputs, check_plot_path, to_json, write_csv
 
-    if args.load is not None:
-        raise InputError(f"--load [N/m] is for the line indenter; --indenter {args.indenter} takes "
-                         f"--force [N]")
     if args.method != "fft":
         raise InputError(f"--method {args.method} is for the line indenter; 3D indenters use fft")
-    # issue 14: --poisson, the friction laws and the linear interface work in 3D; the
-    # exponential interface law is line-only
-    for opt, default in (("interface_law", "linear"), ("interface_pressure", None),
-                         ("interface_length", None)):
-        if getattr(args, opt) != default:
-            raise InputError(f"--{opt.replace('_', '-')} applies to the line indenter only (3D "
-                             f"indenters: the linear --interface-compliance)")
-    for opt, kind in (("length", "cylinder"), ("radius_x", "paraboloid"), ("radius_y", "paraboloid")):
-        if getattr(args, opt) is not None and args.indenter != kind:
-            raise InputError(f"--{opt.replace('_', '-')} applies to --indenter {kind} only")
-    kw = {"length": args.length} if args.length is not None else {}
-    scene = Scene3D(indenter=args.indenter, force=1.0 if args.force is None else args.force,
-                    mu=args.mu, young=args.young, radius=args.radius, thickness=args.thickness,
-                    radius_x=args.radius_x, radius_y=args.radius_y, poisson=args.poisson,
-                    friction_law=args.friction_law, friction_exponent=args.friction_exponent,
-                    friction_pref=args.friction_pref, shear_strength=args.shear_strength,
-                    shear_slope=args.shear_slope, interface_compliance=args.interface_compliance,
-                    **kw)
-    outputs = check_outputs(**{"--profiles": args.profiles, "--plot": args.plot,
-                               "--maps": args.maps})
+    outputs = check_outputs(inputs=_inputs(args), metas=("--profiles",),
+                            **{"--profiles": args.profiles, "--plot": args.plot, "--maps": args.maps})
     if args.plot is not None:
         check_plot_path(args.plot)
     r = solve(scene, model=args.model, method="fft", tol=args.tol, grid_points=args.grid_points,
@@ -300,14 +260,15 @@ def _cmd_solve3d(args) -> int:
                 j = int(np.argmin(np.abs(r.y)))
                 cols.update({k: sensor[k][:, j] for k in ("S_zz_Pa", "S_xz_Pa", "U_zz_mV", "U_xz_mV")})
             write_csv(outs.path(outputs["--profiles"]), cols)
+            add_meta(outs, outputs["--profiles"], {
+                "written_by": "spectral-contact solve",
+                "columns": {k: _PROFILE_NOTES.get(k, "") + " (the line y = 0)" for k in cols},
+                "result": r.summary()})
         if "--plot" in outputs:
             from .plots import plot_maps
 
             plot_maps(r, outs.path(outputs["--plot"]), sensor=sensor)
-    if args.json:
-        print(to_json(r.summary()))
-    else:
-        print(_summary_text3d(r))
+        outs.print(to_json(r.summary()) if args.json else _summary_text3d(r, sensor))
     return 0
 
 
@@ -344,9 +305,11 @@ def _cmd_study(args) -> int:
 
 
 def _study_lines() -> str:
-    """One line per study: its name and the first line of its docstring (read, not imported)."""
-    import ast
+    """One line per study: its name and the first line of its docstring (read, not imported:
+    the opening string literal only, not the whole file's syntax tree, which cost every command
+    ~0.15 s of start-up)."""
     import importlib.util
+    import re
     from pathlib import Path
 
     spec = importlib.util.find_spec("studies")
@@ -355,15 +318,18 @@ def _study_lines() -> str:
     lines = []
     for path in sorted(Path(next(iter(spec.submodule_search_locations))).glob("[a-z]*.py")):
         try:
-            doc = ast.get_docstring(ast.parse(path.read_text(encoding="utf-8"))) or ""
-        except (OSError, SyntaxError):
+            with open(path, encoding="utf-8") as fh:
+                head = fh.read(4096)
+        except (OSError, UnicodeDecodeError):
             continue
-        lines.append(f"  {path.stem:<18} {doc.strip().splitlines()[0] if doc.strip() else ''}")
+        m = re.match(r'\s*[rRuU]?("""|\'\'\')\s*(.*)', head)
+        doc = m.group(2).splitlines()[0].split(m.group(1))[0].strip() if m and m.group(2) else ""
+        lines.append(f"  {path.stem:<18} {doc}")
     return "\n".join(lines)
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from .. import __version__
+    from .._version import __version__
 
     parser = _Parser(prog="spectral-contact",
                      description="A rigid indenter (line, sphere, finite cylinder, paraboloid) "
@@ -372,24 +338,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     p = sub.add_parser("solve", help="solve one scene (default: the paper's)")
-    _add_scene_options(p)
-    p.add_argument("--model", choices=("exact", "goodman", "hertz", "auto"), default="exact",
-                   help="exact: the paper's model, friction coupled into the contact (default); "
-                        "goodman: frictionless pressure and window, friction loads the base only; "
-                        "hertz: half-space Hertz pressure put on the film (closed form; 3D: "
-                        "sphere only); auto (line only): the cheapest of the three whose error "
-                        "bound is below --tol")
-    p.add_argument("--method", choices=("fft", "abel"), default="fft",
-                   help="fft: spectral solver on a periodic grid (default); abel: the paper's "
-                        "Abel/Fredholm formulation, an independent check (line indenter only)")
-    p.add_argument("--tol", type=float, default=None,
-                   help="relative accuracy target, in (0, 0.1) (default 1e-4 for the line "
-                        "indenter; 1e-3 in 3D, 1e-2 for the finite cylinder: its sharp ends "
-                        "converge at first order)")
-    p.add_argument("--grid-points", type=int, default=None,
-                   help="fix N instead of choosing it from --tol (3D: points per axis)")
-    p.add_argument("--domain-length", type=float, default=None,
-                   help="fix the FFT period L [m] (3D: both axes)")
+    add_scene_options(p)
+    add_solve_options(p)
     p.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
     p.add_argument("--profiles", metavar="FILE.csv", help="write the profiles (SI) as CSV")
     p.add_argument("--plot", metavar="FILE.png", help="plot pressure and base stresses (3D: maps)")
@@ -423,14 +373,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "the cores; with --quick: this process)")
     g.add_argument("--serial", action="store_true", help="studies that sweep: run in this process")
     p.set_defaults(func=_cmd_study)
-    for name in _PLUGINS:
-        try:
-            mod = importlib.import_module(name)
-        except ModuleNotFoundError as exc:
-            if exc.name != name:
-                raise
-            continue
-        mod.register(sub)
+    for register in _plugins():
+        register(sub)
     return parser
 
 
@@ -497,6 +441,9 @@ def _one_line_warnings(message, category, filename, lineno, file=None, line=None
     """Warnings are kept, one line each, and printed only if the command succeeds (a failing
     command prints its one error line and nothing else)."""
     text = "warning: " + " ".join(str(message).split())
+    option = getattr(message, "option", None)  # a physics.scene.UnitsWarning: the flag as typed
+    if option and text.startswith(f"warning: {option} "):
+        text = text.replace(option, "--" + option.replace("_", "-"), 1)
     if text not in _WARNINGS:
         _WARNINGS.append(text)
 
@@ -518,10 +465,16 @@ def main(argv=None) -> int:
         options = _options_of(parser, argv)
         args = parser.parse_args(argv)
         command = args.command
+        if sys.stdout is None:  # started with stdout closed (>&-): the result has nowhere to go
+            raise InputError("standard output is closed (>&-): nothing would receive the "
+                             "result; redirect it to a file or /dev/null instead")
         from .progress import show_progress
 
-        # solver steps on stderr once a command passes 2 s (studies print their own progress)
-        with show_progress(after=math.inf if args.command == "study" else 2.0):
+        # solver steps on stderr once a command passes 2 s, on a terminal only: a failing
+        # command's stderr is its one error line, however loaded the machine (studies print
+        # their own progress; calibrate its bootstrap i/n)
+        quiet = args.command in ("study", "calibrate") or not _is_terminal(sys.stderr)
+        with show_progress(after=math.inf if quiet else 2.0):
             status = args.func(args)
         for text in _WARNINGS:
             print(text, file=sys.stderr)
@@ -536,7 +489,8 @@ def main(argv=None) -> int:
     except BrokenPipeError:  # the reader went away (`| head`): end quietly
         return _closed_pipe()
     except InputError as exc:
-        print(f"error: {as_options(_first_line(exc), options)}", file=sys.stderr)
+        print(f"error: {as_options(_first_line(_as_typed(exc, options)), options)}",
+              file=sys.stderr)
         return 2
     except ConvergenceError as exc:
         print(f"not converged: {as_options(_first_line(exc), options)}", file=sys.stderr)
@@ -572,12 +526,29 @@ def main(argv=None) -> int:
             signal.signal(signal.SIGTERM, old_term)
 
 
+def _is_terminal(stream) -> bool:
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError, OSError):
+        return False
+
+
 def _written() -> str:
     """What an interrupted command leaves: nothing, or outputs completed before the signal."""
     done = _files.COMMITTED
     if not done:
         return "no output written"
     return "outputs were complete before the signal and kept: " + ", ".join(map(str, done))
+
+
+def _as_typed(exc: InputError, options) -> str:
+    """The message with the options it names (``errors.named``) as the command's flags, where
+    the command has that flag (else the Python name: a value the command computed)."""
+    def name_of(name):
+        flag = "--" + name.replace("_", "-")
+        return flag if options is None or flag in options else name
+
+    return exc.as_typed(name_of)
 
 
 def _first_line(exc) -> str:

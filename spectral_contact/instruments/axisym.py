@@ -45,6 +45,7 @@ from ..errors import InputError
 from ..numerics.fft import get_rfft
 from ..numerics.grid import Grid
 from ..physics.film import Film
+from ..physics.options import option
 
 __all__ = ["base_stresses_3d", "base_stresses_axisym", "flat_punch_transform",
            "uniform_disc_transform", "flat_punch_base_stresses", "punch_sensitivity",
@@ -109,9 +110,7 @@ def base_stresses_axisym(thickness_m: float, *, pressure_transform=None, r_m=Non
     sigma_rz(r) x / r), r from 0 to ``r_max_m`` (default 8 h) in steps ``dx_m`` (default h/32);
     the periodic grid extends ``margin_h`` film thicknesses beyond r_max (images < 1e-5).
     """
-    h = float(thickness_m)
-    if not (h > 0 and math.isfinite(h)):
-        raise InputError(f"thickness must be > 0 m; got {thickness_m}")
+    h = option("thickness").check(thickness_m)
     if pressure_transform is None and (r_m is None or pressure_Pa is None):
         raise InputError("give pressure_transform, or r_m and pressure_Pa")
     if r_m is not None:

@@ -15,27 +15,14 @@ stress unit (``Scene.stress_unit``), with mu_d the scene's friction coefficient.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, named
+from .options import FRICTION_LAWS, option
 
 __all__ = ["FrictionLaw", "FRICTION_LAWS", "ShearLaw", "AMONTONS"]
-
-FRICTION_LAWS = ("amontons", "power", "linear")
-
-
-def check_finite(name: str, value, accepted: str) -> float:
-    """A finite number (the scene's validator, repeated: physics.scene imports this module)."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a number ({accepted}); got {value!r}") from None
-    if not math.isfinite(v):
-        raise InputError(f"{name} must be finite ({accepted}); got {v}")
-    return v
 
 
 @dataclass(frozen=True)
@@ -59,34 +46,34 @@ class FrictionLaw:
     shear_slope: float | None = None
 
     def __post_init__(self):
-        if self.law not in FRICTION_LAWS:
-            raise InputError(f"friction law must be one of {', '.join(FRICTION_LAWS)}; got {self.law!r}")
+        option("friction_law").check(self.law)
         own = {"amontons": (), "power": ("exponent", "pref"),
                "linear": ("shear_strength", "shear_slope")}[self.law]
-        for name, opt in (("exponent", "--friction-exponent"), ("pref", "--friction-pref"),
-                          ("shear_strength", "--shear-strength"), ("shear_slope", "--shear-slope")):
+        for name, opt in _OPTION_OF.items():
             if getattr(self, name) is not None and name not in own:
-                raise InputError(f"{opt} ({name}) applies to friction law "
+                raise InputError(f"{named(opt)} applies to {named('friction_law')} "
                                  f"{'power' if name in ('exponent', 'pref') else 'linear'} only; "
                                  f"the law is {self.law}")
         if self.law == "power":
-            n = check_finite("friction exponent (n)", 0.0 if self.exponent is None else self.exponent,
-                             "in [0, 1)")
-            if not 0.0 <= n < 1.0:
-                raise InputError(f"friction exponent (n) must be in [0, 1); got {n}")
+            n = option("friction_exponent").check(0.0 if self.exponent is None else self.exponent)
             if self.pref is None:
-                raise InputError("friction pref (p_ref) is required by friction law power (> 0 Pa)")
-            pref = check_finite("friction pref (p_ref)", self.pref, "> 0 Pa")
-            if pref <= 0.0:
-                raise InputError(f"friction pref (p_ref) must be > 0 Pa; got {pref}")
+                o = option("friction_pref")
+                raise InputError(f"{named(o.name)} ({o.what}) is required by "
+                                 f"{named('friction_law')} power ({o.accepted()})")
             object.__setattr__(self, "exponent", n)
-            object.__setattr__(self, "pref", pref)
+            object.__setattr__(self, "pref", option("friction_pref").check(self.pref))
         if self.law == "linear":
-            tau0 = check_finite("shear strength (tau_0)", self.shear_strength or 0.0, "a finite stress [Pa]")
-            alpha = check_finite("shear slope (alpha)", self.shear_slope or 0.0, "finite, same sign as tau_0")
+            if self.shear_strength is None and self.shear_slope is None:  # else: no friction at all
+                raise InputError(f"{named('friction_law')} linear needs its parameters: "
+                                 f"{named('shear_strength')} (tau_0) [Pa] and/or "
+                                 f"{named('shear_slope')} (alpha), same sign; {named('mu')} is "
+                                 f"not used by this law")
+            tau0 = option("shear_strength").check(self.shear_strength or 0.0)
+            alpha = option("shear_slope").check(self.shear_slope or 0.0)
             if tau0 * alpha < 0.0:
-                raise InputError(f"shear strength (tau_0 = {tau0:g} Pa) and shear slope (alpha = {alpha:g}) "
-                                 "must have the same sign (else the shear reverses within the contact)")
+                raise InputError(f"{named('shear_strength')} (tau_0 = {tau0:g} Pa) and "
+                                 f"{named('shear_slope')} (alpha = {alpha:g}) must have the same "
+                                 "sign (else the shear reverses within the contact)")
             object.__setattr__(self, "shear_strength", tau0)
             object.__setattr__(self, "shear_slope", alpha)
 
@@ -104,14 +91,16 @@ class FrictionLaw:
 
     def describe(self) -> dict:
         """The law's parameters for the JSON record (SI)."""
-        out = {"friction_law": self.law}
-        if self.law == "power":
-            out |= {"friction_exponent": self.exponent, "friction_pref_Pa": self.pref}
-        if self.law == "linear":
-            out |= {"shear_strength_Pa": self.shear_strength, "shear_slope": self.shear_slope}
+        out = {"friction_law": self.law}  # the options' JSON keys (physics.options)
+        own = {"power": ("exponent", "pref"), "linear": ("shear_strength", "shear_slope")}
+        for name in own.get(self.law, ()):
+            out[option(_OPTION_OF[name]).json] = getattr(self, name)
         return out
 
 
+_OPTION_OF = {"exponent": "friction_exponent", "pref": "friction_pref",
+              "shear_strength": "shear_strength", "shear_slope": "shear_slope"}
+"""FrictionLaw's fields as the scene's options (``physics.options``)."""
 AMONTONS = FrictionLaw()
 
 

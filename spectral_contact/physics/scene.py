@@ -19,17 +19,21 @@ import math
 import numbers
 from dataclasses import dataclass
 
-import numpy as np
-
-from ..errors import InputError
+from ..errors import InputError, named
+from . import options as _options
+from .film import Film
 from .friction import FrictionLaw
+from .indenters import Cylinder, LineHeightFunction, user_heights
+from .options import INDENTERS_3D, MU_MAX, TOL_MIN, default
 
 __all__ = ["Scene", "Scene3D", "INDENTERS_3D", "PAPER_SCENE", "check_finite", "check_positive",
            "check_tol", "check_poisson", "MU_MAX", "A_OVER_H_MAX", "TOL_MIN"]
 
 
 def check_finite(name: str, value, accepted: str) -> float:
-    """A real number (int, float, numpy scalar; not bool, str or bytes), finite as a float."""
+    """A real number (int, float, numpy scalar; not bool, str or bytes), finite as a float.
+    ``name``, if a Python name, is marked (``errors.named``): the command line says its flag."""
+    name = named(name) if name.isidentifier() else name
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise InputError(f"{name} must be a number ({accepted}); got {_short(value)}")
     try:
@@ -50,39 +54,77 @@ def _short(value, n: int = 40) -> str:
 def check_positive(name: str, value, unit: str) -> float:
     v = check_finite(name, value, f"> 0 {unit}".strip())
     if v <= 0.0:
+        name = named(name) if name.isidentifier() else name
         raise InputError(f"{name} must be > 0 {unit}; got {v}".replace("  ", " "))
     return v
 
 
 def check_poisson(nu) -> float:
-    """A Poisson ratio in [0, 0.5] (0.5: incompressible)."""
-    v = check_finite("poisson (nu)", nu, "in [0, 0.5]")
-    if not 0.0 <= v <= 0.5:
-        raise InputError(f"poisson (nu) must be in [0, 0.5]; got {v}")
-    return v
-TOL_MIN = 1e-14
-"""Smallest relative tolerance: differences of a few round-offs (2.2e-16) cannot be resolved."""
+    """A Poisson ratio in [0, 0.5] (0.5: incompressible): ``options`` "poisson"."""
+    return _options.option("poisson").check(nu)
 
 
 def check_tol(tol) -> float:
-    """A relative accuracy target: a number in [TOL_MIN, 0.1)."""
-    t = check_finite("tol", tol, f"in [{TOL_MIN:g}, 0.1)")
-    if not (math.isfinite(t) and TOL_MIN <= t < 0.1):
-        raise InputError(f"tol must be in [{TOL_MIN:g}, 0.1); got {tol}")
-    return t
+    """A relative accuracy target: a number in [TOL_MIN, 0.1) (``options`` "tol")."""
+    return _options.option("tol").check(tol)
 
 
-MU_MAX = 1e3
-"""Largest |mu_d| accepted: the FFT solver is verified to |mu| = 100 (and fails to converge,
-exit 3, from ~1e3 on the paper's scene); beyond 1e3 round-off breaks the linear algebra."""
 A_OVER_H_MAX = 1e8
 """Largest Hertz half-width a_H/h = sqrt(P / 2 pi) accepted: the FFT solver is verified to 1e8
 frictionless (with friction it stops converging, exit 3, from ~1e3); beyond, the film's scales
 leave floating-point range."""
 _TYPICAL = {"load": 200.0, "young": 2.2e6, "radius": 0.130, "thickness": 0.002}
-_LABEL = {"load": "load (P_L)", "young": "young (E)", "radius": "radius (R)",
-          "thickness": "thickness (h)"}
-_UNIT = {"load": "N/m", "young": "Pa", "radius": "m", "thickness": "m"}
+
+
+LAW_SCALE_MAX = 1e8
+"""Bound on the friction law's stress parameters (p_ref, tau_0) over the scene's stress unit
+E h/(6R): beyond it the local friction coefficient mu (p/p_ref)^-n (or tau_0 against p) is
+under- or overflowing nonsense (p_ref = 5e-324 Pa divided by zero; 1e300 Pa never converged)."""
+SHAPE_RATIO_MIN, SHAPE_RATIO_MAX = 1e-6, 1e6
+"""Bounds on a 3D indenter's shape ratios (cylinder length / h, paraboloid radii / radius): a
+subnormal length divided by zero, a subnormal radius_x never converged."""
+
+
+SOFT_CONTACT_RANGES = {"young": (1e3, 1e9, "Pa"), "thickness": (1e-6, 0.1, "m"),
+                       "radius": (1e-6, 10.0, "m"), "length": (1e-5, 1.0, "m")}
+"""Soft-contact practice (elastomer films, gels, skin): E from 1 kPa to 1 GPa, films from 1 um
+to 10 cm, indenter radii from 1 um to 10 m, cylinder lengths from 10 um to 1 m.  A value
+outside is accepted (the model is scale-free) with one warning: it is most often a units slip
+(thickness=2 meant in mm, E in MPa)."""
+
+
+class UnitsWarning(UserWarning):
+    """A value outside ``SOFT_CONTACT_RANGES``; ``option`` is the parameter's Python name (the
+    command line names it as typed)."""
+
+    def __init__(self, message, option=None):
+        super().__init__(message)
+        self.option = option
+
+
+def _warn_units(scene) -> None:
+    import warnings
+
+    for name, (lo, hi, unit) in SOFT_CONTACT_RANGES.items():
+        v = getattr(scene, name, None)
+        if v is not None and not lo <= v <= hi:
+            warnings.warn(UnitsWarning(f"{name} = {v:g} {unit} is outside soft-contact practice "
+                                       f"[{lo:g}, {hi:g}] {unit}: is it in SI units?", name),
+                          stacklevel=4)
+
+
+def _check_law_scales(scene) -> None:
+    """The friction law's stresses within LAW_SCALE_MAX of the stress unit (tau_0 may be 0)."""
+    law, unit = scene.friction, scene.stress_unit
+    for value, name, opt in ((law.pref, "friction pref (p_ref)", "--friction-pref"),
+                             (law.shear_strength, "shear strength (tau_0)", "--shear-strength")):
+        if value is None or (value == 0.0 and opt == "--shear-strength"):
+            continue
+        ratio = abs(value) / unit
+        if not 1.0 / LAW_SCALE_MAX <= ratio <= LAW_SCALE_MAX:
+            raise InputError(f"{name} = {value:g} Pa is out of range: |value| / (E h/(6R) = "
+                             f"{unit:.3g} Pa) = {ratio:.3g} must be in [{1 / LAW_SCALE_MAX:g}, "
+                             f"{LAW_SCALE_MAX:g}] ({opt})")
 
 
 @dataclass(frozen=True)
@@ -124,63 +166,68 @@ class Scene:
     interface_pressure, interface_length : float, optional
         p0 [Pa] > 0 and lambda [m] > 0 of the exponential law (required by it, refused
         otherwise).  The exponential law has no sharp contact edges.
+    height : callable, optional
+        Any line indenter instead of the cylinder: height(x_m) -> f [m] above its lowest point
+        (x an array of positions from the apex [m]; +inf where there is no indenter), loaded
+        by ``load`` per unit length; ``radius`` is then only the unit of heights (h^2/2R).
+        The FFT method only.
+    extent : float, optional
+        With ``height``: a bound of the contact's half-width [m] (default 2 h).
+    film : physics.film.Film, optional
+        The film's kind: a ``Film`` or a subclass supplying its own symbols (``Film.transfer``);
+        its thickness, young and poisson are the scene's (given in one place: the film, or
+        the scene's fields).  Default: the elastic film of ``poisson``.
 
     The derived units (h^2/2R, E h/6R) must be finite and > 0, and the Hertz half-width
     sqrt(P / 2 pi) at most A_OVER_H_MAX film thicknesses; else InputError names the parameter
     farthest (in decades) from the paper's value.
     """
 
-    load: float = 200.0
-    mu: float = 2.0
-    young: float = 2.2e6
-    radius: float = 0.130
-    thickness: float = 0.002
-    poisson: float = 0.5
-    friction_law: str = "amontons"
+    load: float = default("load")
+    mu: float = default("mu")
+    young: float = default("young")
+    radius: float = default("radius")
+    thickness: float = default("thickness")
+    poisson: float = default("poisson")
+    friction_law: str = default("friction_law")
     friction_exponent: float | None = None
     friction_pref: float | None = None
     shear_strength: float | None = None
     shear_slope: float | None = None
-    interface_compliance: float = 0.0
-    interface_law: str = "linear"
+    interface_compliance: float = default("interface_compliance")
+    interface_law: str = default("interface_law")
     interface_pressure: float | None = None
     interface_length: float | None = None
+    height: object = None
+    extent: float | None = None
+    film: object = None
 
     def __post_init__(self):
-        c = check_finite("interface compliance (C)", self.interface_compliance, ">= 0 m/Pa")
-        if c < 0.0:
-            raise InputError(f"interface compliance (C) must be >= 0 m/Pa; got {c}")
-        object.__setattr__(self, "interface_compliance", c)
-        object.__setattr__(self, "poisson", check_poisson(self.poisson))
-        law = self.friction  # validates the law's parameters: one-line InputError
-        if law.law == "linear" and law.shear_strength != 0.0 and self.poisson != 0.5:
-            # measured: the outer iteration settles on coarse grids but not under refinement
-            # (the edge nodes keep flipping at 131072 points, nu = 0.45): a compressible film's
-            # sinking kinks under the shear step tau_0 at the edge (its shear kernel ~ sgn x)
-            raise InputError("shear strength (tau_0) != 0 needs poisson 0.5: with the shear step at "
-                             "the contact edge the friction-law iteration does not settle on a "
-                             f"compressible film; got poisson {self.poisson:g}")
-        object.__setattr__(self, "young", check_positive("young (E)", self.young, "Pa"))
-        object.__setattr__(self, "radius", check_positive("radius (R)", self.radius, "m"))
-        object.__setattr__(self, "thickness", check_positive("thickness (h)", self.thickness, "m"))
-        load = check_finite("load (P_L)", self.load, ">= 0 N/m")
-        if load < 0.0:
-            raise InputError(f"load (P_L) must be >= 0 N/m; got {load}")
-        object.__setattr__(self, "load", load)
-        mu = check_finite("mu (mu_d)", self.mu, f"in [-{MU_MAX:g}, {MU_MAX:g}]")
-        if abs(mu) > MU_MAX:
-            raise InputError(f"mu (mu_d) must be in [-{MU_MAX:g}, {MU_MAX:g}]; got {mu:g}")
-        object.__setattr__(self, "mu", mu + 0.0)  # + 0.0: no -0
-        object.__setattr__(self, "load", load + 0.0)
+        _take_film(self)
+        for name, value in _options.validate(self, "line").items():  # the table's bounds
+            object.__setattr__(self, name, value)
+        if self.height is not None and not callable(self.height):
+            raise InputError(f"{named('height')} must be a callable height(x_m) [m]; got "
+                             f"{type(self.height).__name__}")
+        if self.height is None and self.extent is not None:
+            raise InputError(f"{named('extent')} bounds a height function's contact: give "
+                             f"{named('height')} (or an indenter function) with it")
+        if self.height is not None and self.extent is None:
+            object.__setattr__(self, "extent", 2.0 * self.thickness)
+        _check_law_and_film(self)
         self._check_scales()
         self._check_interface_law()
+        _check_law_scales(self)
+        _warn_units(self)
 
     def extreme_parameter(self, names=("load", "young", "thickness", "radius")) -> str:
         """"name = value unit" of the parameter among ``names`` farthest (in decades) from the
         paper's value: the one to name when a derived quantity is out of range."""
-        far = max(names, key=lambda n: abs(math.log10(getattr(self, n) / _TYPICAL[n]))
+        # log10 of each factor, not of the ratio: a subnormal value over the typical one
+        # underflows to 0 (log10(4.9e-324 / 200) is a domain error)
+        far = max(names, key=lambda n: abs(math.log10(getattr(self, n)) - math.log10(_TYPICAL[n]))
                   if getattr(self, n) > 0 else math.inf)
-        return f"{_LABEL[far]} = {getattr(self, far):g} {_UNIT[far]}"
+        return f"{named(far)} = {getattr(self, far):g} {_options.option(far).unit}"
 
     def _check_scales(self):
         """Every derived scale finite and > 0, and the contact within the solvers' range; the
@@ -208,28 +255,23 @@ class Scene:
 
 
     def _check_interface_law(self):
-        law = self.interface_law
-        if law not in ("linear", "exponential"):
-            raise InputError(f"interface law must be linear or exponential; got {law!r}")
-        if law == "linear":
-            for name, opt in (("interface_pressure", "--interface-pressure"),
-                              ("interface_length", "--interface-length")):
+        if self.interface_law == "linear":
+            for name in ("interface_pressure", "interface_length"):
                 if getattr(self, name) is not None:
-                    raise InputError(f"{opt} ({name}) applies to interface law exponential only")
+                    raise InputError(f"{named(name)} applies to {named('interface_law')} "
+                                     f"exponential only")
             return
-        for name, opt, unit in (("interface_pressure", "--interface-pressure", "Pa"),
-                                ("interface_length", "--interface-length", "m")):
-            v = getattr(self, name)
-            if v is None:
-                raise InputError(f"{opt} ({name}) is required by interface law exponential "
-                                 f"(> 0 {unit})")
-            object.__setattr__(self, name, check_positive(f"{opt} ({name})", v, unit))
+        for name in ("interface_pressure", "interface_length"):
+            if getattr(self, name) is None:
+                o = _options.option(name)
+                raise InputError(f"{named(name)} ({o.what}) is required by {named('interface_law')}"
+                                 f" exponential ({o.accepted()})")
         if self.interface_compliance:
-            raise InputError("interface compliance (C) applies to interface law linear only; "
-                             "the law is exponential")
+            raise InputError(f"{named('interface_compliance')} (C) applies to "
+                             f"{named('interface_law')} linear only; the law is exponential")
         if self.friction_law != "amontons":
-            raise InputError(f"interface law exponential takes friction law amontons only; got "
-                             f"{self.friction_law}")
+            raise InputError(f"{named('interface_law')} exponential takes {named('friction_law')} "
+                             f"amontons only; got {self.friction_law}")
 
     @property
     def interface_p0(self) -> float:
@@ -284,6 +326,27 @@ class Scene:
         """Dimensionless lineic load P = P_L 2R / (G h^2) (= P_L 6R / (E h^2) at nu = 1/2)."""
         return self.load / (self.stress_unit * self.length_unit)
 
+    def indenter_object(self):
+        """The indenter in the core's units (``physics.indenters``), apex at the origin: the
+        cylinder, or the user's height function."""
+        if self.height is None:
+            return Cylinder(0.0, self.P)
+        h, unit, height = self.thickness, self.displacement_unit, self.height
+
+        def f(x):
+            return user_heights(height, x * h) / unit
+
+        return LineHeightFunction(0.0, self.P, f, self.extent / h)
+
+    def core_film(self) -> Film:
+        """The film in the core's units (thickness 1, stresses in G): the scene's kind."""
+        return Film(poisson=self.poisson) if self.film is None else self.film.core()
+
+    def custom(self) -> str | None:
+        """What of this scene only the FFT method solves (a user's indenter or film kind), in
+        words; None for the built-in ones."""
+        return _custom(self)
+
     def with_(self, **changes) -> Scene:
         """A copy with some parameters changed."""
         from dataclasses import replace
@@ -291,11 +354,52 @@ class Scene:
         return replace(self, **changes)
 
 
+def _take_film(scene) -> None:
+    """A scene given ``film=``: its thickness, young and poisson are the film's (the scene's own
+    fields left at their defaults, or equal)."""
+    film = scene.film
+    if film is None:
+        return
+    if not isinstance(film, Film):
+        raise InputError(f"{named('film')} must be a physics.film.Film (or a subclass); got "
+                         f"{type(film).__name__}")
+    if film.young is None:
+        raise InputError(f"{named('film')}: a scene's film needs its Young modulus, "
+                         f"Film(thickness=h [m], young=E [Pa], poisson=nu)")
+    for name in ("thickness", "young", "poisson"):
+        mine, its = getattr(scene, name), getattr(film, name)
+        if mine != its and mine != default(name):
+            raise InputError(f"{named(name)} = {mine:g} and {named('film')}.{name} = {its:g}: "
+                             f"give the film's {name} once, in the film")
+        object.__setattr__(scene, name, its)
+
+
+def _custom(scene) -> str | None:
+    if scene.film is not None and type(scene.film) is not Film:
+        return f"a user-defined film ({type(scene.film).__name__})"
+    if isinstance(scene, Scene) and scene.height is not None:
+        return "a user-defined line indenter"
+    return None
+
+
+def _check_law_and_film(scene) -> None:
+    """The friction law's parameters belong to the law (``FrictionLaw``), and tau_0 != 0 needs
+    an incompressible film."""
+    law = scene.friction  # validates the law's parameters: one-line InputError
+    if law.law == "linear" and law.shear_strength != 0.0 and scene.poisson != 0.5:
+        # measured: the outer iteration settles on coarse grids but not under refinement
+        # (the edge nodes keep flipping at 131072 points, nu = 0.45): a compressible film's
+        # sinking kinks under the shear step tau_0 at the edge (its shear kernel ~ sgn x)
+        raise InputError(f"{named('shear_strength')} (tau_0) != 0 needs {named('poisson')} 0.5: "
+                         "with the shear step at the contact edge the friction-law iteration does "
+                         f"not settle on a compressible film; got poisson {scene.poisson:g}")
+
+
 PAPER_SCENE = Scene()
 """The paper's scene: E = 2.2 MPa, R = 130 mm, h = 2 mm, P_L = 200 N/m, mu_d = 2.0."""
 
 
-INDENTERS_3D = ("sphere", "cylinder", "paraboloid", "function")
+_FRTH = ", ".join(named(n) for n in ("force", "young", "radius")) + " or " + named("thickness")
 A_OVER_H_MIN_3D = 1e-3
 """Smallest Hertz radius / h a 3D scene may have (the decay margin of ~15 h around a contact
 of 1e-3 h already needs ~10^5 cells per axis: the solver refuses before allocating)."""
@@ -337,76 +441,78 @@ class Scene3D:
     friction_law, friction_exponent, friction_pref, shear_strength, shear_slope,
     interface_compliance :
         As ``Scene`` (issue 14): the friction law q(p) along x, a linear interface compliance.
+    film : physics.film.Film, optional
+        The film's kind, as ``Scene.film``.
 
     Dimensionless core: as ``Scene``, and the force P = F 6R / (E h^3) (stresses integrate
     over an area in h^2).
     """
 
     indenter: str = "sphere"
-    force: float = 1.0
-    mu: float = 2.0
-    young: float = 2.2e6
-    radius: float = 0.130
-    thickness: float = 0.002
-    length: float = 0.008
+    force: float = default("force")
+    mu: float = default("mu")
+    young: float = default("young")
+    radius: float = default("radius")
+    thickness: float = default("thickness")
+    length: float = default("length")
     radius_x: float | None = None
     radius_y: float | None = None
     height: object = None
     extent: float | None = None
-    poisson: float = 0.5
-    friction_law: str = "amontons"
+    poisson: float = default("poisson")
+    friction_law: str = default("friction_law")
     friction_exponent: float | None = None
     friction_pref: float | None = None
     shear_strength: float | None = None
     shear_slope: float | None = None
-    interface_compliance: float = 0.0
+    interface_compliance: float = default("interface_compliance")
+    film: object = None
 
     def __post_init__(self):
-        object.__setattr__(self, "poisson", check_poisson(self.poisson))
-        c = check_finite("interface compliance (C)", self.interface_compliance, ">= 0 m/Pa")
-        if c < 0.0:
-            raise InputError(f"interface compliance (C) must be >= 0 m/Pa; got {c}")
-        object.__setattr__(self, "interface_compliance", c)
-        law = self.friction  # validates the law's parameters: one-line InputError
-        if law.law == "linear" and law.shear_strength != 0.0 and self.poisson != 0.5:
-            raise InputError("shear strength (tau_0) != 0 needs poisson 0.5: with the shear step at "
-                             "the contact edge the friction-law iteration does not settle on a "
-                             f"compressible film; got poisson {self.poisson:g}")
+        _take_film(self)
         if self.indenter not in INDENTERS_3D:
-            raise InputError(f"indenter must be one of {', '.join(INDENTERS_3D)} (or line in 2D); "
-                             f"got {self.indenter!r}")
-        for name, unit in (("young", "Pa"), ("radius", "m"), ("thickness", "m"), ("length", "m")):
-            object.__setattr__(self, name, check_positive(name, getattr(self, name), unit))
+            raise InputError(f"{named('indenter')} must be one of {', '.join(INDENTERS_3D)} (or "
+                             f"line in 2D); got {self.indenter!r}")
+        for name, value in _options.validate(self, "surface").items():  # the table's bounds
+            object.__setattr__(self, name, value)
+        _check_law_and_film(self)
         for name in ("radius_x", "radius_y"):
-            v = getattr(self, name)
-            object.__setattr__(self, name, self.radius if v is None else check_positive(name, v, "m"))
-        force = check_finite("force", self.force, ">= 0 N")
-        if force < 0.0:
-            raise InputError(f"force must be >= 0 N; got {force}")
-        object.__setattr__(self, "force", force)
-        object.__setattr__(self, "mu", check_finite("mu (mu_d)", self.mu, "any finite real"))
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, self.radius)
         if self.indenter == "function":
             if not callable(self.height):
-                raise InputError("indenter 'function' needs height: a callable height(x_m, y_m) [m]")
-            ext = 2.0 * self.thickness if self.extent is None else self.extent
-            object.__setattr__(self, "extent", check_positive("extent", ext, "m"))
+                raise InputError(f"{named('indenter')} 'function' needs height: a callable "
+                                 f"height(x_m, y_m) [m]")
+            if self.extent is None:
+                object.__setattr__(self, "extent", 2.0 * self.thickness)
         for name in ("length_unit", "displacement_unit", "stress_unit", "P"):
             try:
                 v = getattr(self, name)
             except OverflowError:  # float ** raises where * gives inf
                 v = math.inf
             if not (math.isfinite(v) and (v > 0 or (name == "P" and v == 0))):
-                raise InputError(f"the scene's {name.replace('_', ' ')} is {v:g}: force, young, "
-                                 f"radius or thickness out of range")
+                raise InputError(f"the scene's {name.replace('_', ' ')} is {v:g}: {_FRTH} out of "
+                                 f"range")
         if self.P > 0:
             # the Hertz radius (3P/32)^(1/3) in film thicknesses: within what a 2D grid of at
             # most 8192^2 points can hold with the film's decay margin around it
             s = (3.0 * self.P / 32.0) ** (1.0 / 3.0)
             if not A_OVER_H_MIN_3D <= s <= A_OVER_H_MAX_3D:
                 raise InputError(
-                    f"force, young, radius or thickness out of range for 3D: the Hertz contact "
+                    f"{_FRTH} out of range for 3D: the Hertz contact "
                     f"radius would be {s:.3g} film thicknesses; the 3D solver takes "
                     f"{A_OVER_H_MIN_3D:g} ... {A_OVER_H_MAX_3D:g} (smaller: use model hertz)")
+
+        _check_law_scales(self)
+        _warn_units(self)
+        for name, ratio, what in (
+                ("length", self.length / self.thickness, "length / thickness"),
+                ("radius_x", self.radius_x / self.radius, "radius_x / radius"),
+                ("radius_y", self.radius_y / self.radius, "radius_y / radius")):
+            if not SHAPE_RATIO_MIN <= ratio <= SHAPE_RATIO_MAX:
+                raise InputError(f"{name} = {getattr(self, name):g} m is out of range: {what} = "
+                                 f"{ratio:.3g} must be in [{SHAPE_RATIO_MIN:g}, "
+                                 f"{SHAPE_RATIO_MAX:g}]")
 
     length_unit = Scene.length_unit
     displacement_unit = Scene.displacement_unit
@@ -415,6 +521,8 @@ class Scene3D:
     friction = Scene.friction
     interface = Scene.interface
     interface_law = "linear"  # not a field: the exponential law is for the line indenter only
+    core_film = Scene.core_film
+    custom = Scene.custom
 
     @property
     def P(self) -> float:
@@ -423,7 +531,7 @@ class Scene3D:
 
     def indenter_object(self):
         """The indenter in the core's units (``physics.indenters``), apex at the origin."""
-        from .indenters import FiniteCylinder, HeightFunction, Paraboloid, Sphere
+        from .indenters import FiniteCylinder, HeightFunction, Paraboloid, Sphere, user_heights
 
         h, R = self.thickness, self.radius
         if self.indenter == "sphere":
@@ -435,7 +543,7 @@ class Scene3D:
         unit = self.displacement_unit
 
         def f(x, y):
-            return np.asarray(self.height(x * h, y * h), dtype=float) / unit
+            return user_heights(self.height, x * h, y * h) / unit
 
         return HeightFunction(0.0, self.P, f, (self.extent / h, self.extent / h))
 

@@ -15,7 +15,7 @@ import math
 import numbers
 from abc import ABC, abstractmethod
 
-from ..errors import InputError
+from ..errors import InputError, named
 from ..physics.scene import Scene, check_tol
 from ..result import COUNTER_KEYS
 
@@ -30,20 +30,24 @@ def register(cls):
     return cls
 
 
-def check_grid_points(value, lo: int, hi: int, what: str, even: bool = False) -> int | None:
+def check_grid_points(value, lo: int, hi: int, what: str, even: bool = False,
+                      shown: str | None = None) -> int | None:
     """An integer count in [lo, hi] (None passes through).  Whole floats are accepted;
-    booleans, strings and fractional or non-finite numbers are refused."""
+    booleans, strings and fractional or non-finite numbers are refused.  ``shown``: the range
+    as the messages say it (default "[lo, hi]")."""
     if value is None:
         return None
+    shown = shown or f"[{lo}, {hi}]"
+    n_ = named("grid_points")
     ok = isinstance(value, numbers.Integral) or (
         isinstance(value, numbers.Real) and math.isfinite(value) and float(value).is_integer())
     if isinstance(value, bool) or not ok:
-        raise InputError(f"grid_points ({what}) must be an integer in [{lo}, {hi}]; got {value!r}")
+        raise InputError(f"{n_} ({what}) must be an integer in {shown}; got {value!r}")
     n = int(value)
     if not lo <= n <= hi:
-        raise InputError(f"grid_points ({what}) must be in [{lo}, {hi}]; got {n}")
+        raise InputError(f"{n_} ({what}) must be in {shown}; got {n}")
     if even and n % 2:
-        raise InputError(f"grid_points ({what}) must be even (a power of two is fastest); got {n}")
+        raise InputError(f"{n_} ({what}) must be even (a power of two is fastest); got {n}")
     return n
 
 
