@@ -183,3 +183,19 @@ def test_cli_apparatus_with_base_file(good_file, tmp_path, capsys):
     _write(g, "r_m,G", [(i * 1e-4, np.exp(-i / 5)) for i in range(30)])
     assert main(["invert", str(good_file), "--apparatus-zz", str(g)]) == 2
     assert "--apparatus-zz" in capsys.readouterr().err
+
+
+def test_positive_and_support(amontons):
+    """p >= 0 at every node with positive=True (the nodes at the bound have sd 0); with a known
+    support the nodes lie on it and the totals still hold."""
+    zz, xz = _record(amontons, 0.01, 7)
+    inv = invert_line(X, zz, xz, positive=True)
+    assert np.all(inv.pressure_Pa >= 0)
+    assert np.all(inv.pressure_sd_Pa[inv.pressure_Pa == 0] == 0)
+    assert inv.summary()["load_N_per_m"] == pytest.approx(200.0, rel=0.01)
+    (a, b), = amontons.contact_intervals_m
+    inv = invert_line(X, zz, xz, support=(a, b))
+    assert inv.x_m.min() == pytest.approx(a) and inv.x_m.max() == pytest.approx(b)
+    s = inv.summary()
+    assert abs(s["load_N_per_m"] - 200.0) < 0.01 * 200.0
+    assert abs(s["tangential_load_N_per_m"] - 200.0) < 0.01 * 200.0
