@@ -26,9 +26,9 @@ __all__ = ["main", "build_parser"]
 def _plugins():
     """The subcommands' modules beside ``solve`` and ``study``: each exposes register(subparsers)
     (a new subcommand: its module in cli/ and one line here)."""
-    from . import mems, onset, sweep
+    from . import invert, mems, onset, sweep
 
-    return (mems.register, sweep.register, onset.register)
+    return (mems.register, sweep.register, onset.register, invert.register)
 
 
 class _Parser(argparse.ArgumentParser):
