@@ -203,3 +203,19 @@ def test_cli_outputs(tmp_path, capsys):
     assert list(df.columns) == ["step", "Q_over_muP", "x_m", "pressure_Pa", "shear_Pa", "slip_m",
                                 "base_sigma_zz_Pa", "base_sigma_xz_Pa", "S_zz_Pa", "S_xz_Pa"]
     assert sorted(df["step"].unique()) == [0, 1, 2, 3, 4]
+
+
+def test_study_quick(tmp_path):
+    """studies.onset --quick runs and its stick zone at a/h = 0.3 is Cattaneo-Mindlin's to a
+    few % of a (the film narrows it by ~1 % there: studies/README)."""
+    import pandas as pd
+
+    from studies import onset as study
+
+    assert study.main(["--quick", "--out", str(tmp_path)]) == 0
+    d = pd.read_csv(tmp_path / "onset_stick.csv")
+    thin = d[(d.aH_over_h == 0.3) & (d.Q_over_muP < 1.0)]
+    assert (thin.stick_half_width_over_a - thin.cattaneo_over_a).abs().max() < 0.03
+    for name in ("onset_signature.csv", "onset_loading.csv", "onset_speed.csv",
+                 "onset_stick.png", "onset_paper.png"):
+        assert (tmp_path / name).exists()

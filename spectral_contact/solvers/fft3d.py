@@ -163,7 +163,7 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     t0 = time.perf_counter()
     plans0 = planning_time()
     grid_points, domain_length = _check_fixed(grid_points, domain_length)
-    film = Film(poisson=scene.poisson)  # issue 14: any nu (nu = 1/2: the incompressible path)
+    film = scene.core_film()  # issue 14: any nu (nu = 1/2: the incompressible path); issue 20: a user's kind
     P = scene.P
     mu_contact = scene.mu if model == "exact" else 0.0
     ind = scene.indenter_object()

@@ -82,6 +82,9 @@ def check_onset_scene(scene) -> Scene:
     if not isinstance(scene, Scene):
         raise InputError("onset: spheres and other 3D indenters are not implemented yet "
                          "(--indenter line only)")
+    if scene.custom():  # its solver builds the cylinder and the film itself
+        raise InputError(f"onset: {scene.custom()} is not implemented yet (the built-in "
+                         f"cylinder and film only)")
     if scene.friction_law != "amontons":
         raise InputError(f"--friction-law {scene.friction_law}: onset takes Amontons friction "
                          f"only (Coulomb's |q| <= mu p)")
@@ -456,6 +459,12 @@ class OnsetResult:
             "steady_half_width_m": self.steady.half_width_m,
             "steady_contact_center_m": self.steady.contact_center_m,
             "wall_time_s": self.wall_time_s, "counters": dict(self.counters),
+            # steps whose stick-slip boundary node cycled and was accepted with a friction-law
+            # violation <= 1e-2 (numerics.partial_slip._MARGINAL), and that largest violation
+            "marginal_steps": sum(s.residuals.get("marginal_nodes", 0) for s in self.states),
+            "friction_law_residual": max(max(s.residuals.get("coulomb", 0.0),
+                                             s.residuals.get("slip_direction", 0.0))
+                                         for s in self.states),
             "loaded": self._si_step(0),
             "steps": [self._si_step(k) for k in range(1, self.n_steps + 1)],
         }

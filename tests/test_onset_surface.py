@@ -1,0 +1,83 @@
+"""Partial slip of a sphere on the film, one load step at a time (numerics.partial_slip2d):
+the surface core of issue 22 (the sphere's driver, CLI and result are not written yet).
+
+In the half-space limit (a/h = 0.1) the stick zone follows Mindlin's c = a (1 - Q/(mu P))^(1/3)
+(Mindlin 1949; Johnson, Contact Mechanics, 1985, sect. 7.2), which assumes the slip parallel to
+Q: at nu = 1/2 the slip direction, solved here, turns by a few degrees (q_y up to ~8 % of
+mu p) and the stick zone stays close to Mindlin's circle (Munisamy, Hills & Nowell 1994 found
+the exact one nearly circular); on this 128^2 grid (a = 13 cells) its equivalent radius
+sqrt(area/pi) is within 2 % of a of Mindlin's at every step (measured: 0.05-1.6 %).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from spectral_contact.numerics.contact import solve_contact
+from spectral_contact.numerics.grid import Grid
+from spectral_contact.numerics.partial_slip2d import (
+    PartialSlipOperator2D,
+    SlipState2D,
+    solve_slip_step_2d,
+)
+from spectral_contact.physics.indenters import Sphere
+
+
+@pytest.fixture(scope="module")
+def loading():
+    s, mu, n, L, steps = 0.1, 0.5, 128, 1.0, 4
+    P = 32.0 * s**3 / 3.0  # Hertz radius s h (nu = 1/2, the core's units)
+    g = Grid.centered((n, n), (L, L))
+    ind = Sphere(0.0, P)
+    f = np.asarray(ind.height(g)).ravel()
+    s0 = solve_contact(g, 0.0, [ind])
+    op = PartialSlipOperator2D(g)
+    N = g.size
+    p = s0.pressure.ravel().copy()
+    w, u = op.apply(p, np.zeros((2, N)))
+    st = SlipState2D(p=p, q=np.zeros((2, N)), w=w, u=u, d=float(s0.indentations[0]),
+                     delta=np.zeros(2), contact=s0.active.ravel().copy(),
+                     stick=s0.active.ravel().copy(), sigma=np.zeros(N, dtype=np.int8), P=P,
+                     slip=np.zeros((2, N)))
+    st.t = np.zeros((2, N))
+    a = math.sqrt(s0.active.sum() * g.cell / math.pi)
+    states = []
+    for k in range(1, steps + 1):
+        st = solve_slip_step_2d(op, f, st, P, (mu * P * k / steps, 0.0), mu)
+        states.append(st)
+    return dict(g=g, a=a, mu=mu, P=P, steps=steps, states=states)
+
+
+def test_stick_zone_follows_mindlin(loading):
+    g, a, steps = loading["g"], loading["a"], loading["steps"]
+    for k, st in enumerate(loading["states"][:-1], start=1):
+        c = math.sqrt(st.stick.sum() * g.cell / math.pi)
+        c_mindlin = a * (1.0 - k / steps) ** (1.0 / 3.0)
+        assert abs(c - c_mindlin) < 0.02 * a, (k, c / a, c_mindlin / a)
+    assert loading["states"][-1].stick.sum() == 1  # gross sliding
+
+
+def test_coulomb_direction_and_equilibrium(loading):
+    g, mu, P = loading["g"], loading["mu"], loading["P"]
+    nx, ny = g.shape
+    for k, st in enumerate(loading["states"], start=1):
+        qn = np.hypot(*st.q)
+        assert qn.max() <= mu * st.p.max() * (1.0 + 1e-9)
+        assert np.all(qn <= mu * st.p + 1e-9 * mu * st.p.max())
+        slip = st.contact & ~st.stick
+        assert np.allclose(qn[slip], mu * st.p[slip], rtol=1e-6, atol=1e-9 * st.p.max())
+        assert abs(g.cell * st.p.sum() - P) <= 1e-8 * P
+        Q = g.cell * st.q.sum(axis=1)
+        assert Q[0] == pytest.approx(mu * P * k / loading["steps"], rel=1e-8)
+        assert abs(Q[1]) <= 1e-8 * mu * P
+        # the slip direction is solved: q_y is antisymmetric in y and not zero
+        qy = st.q[1].reshape(nx, ny)
+        j = (ny - np.arange(ny)) % ny
+        assert np.abs(qy[:, j] + qy).max() <= 1e-6 * mu * st.p.max()
+        if k < loading["steps"]:
+            assert np.abs(qy).max() > 0.01 * mu * st.p.max()
+        assert abs(st.delta[1]) <= 1e-8 * abs(st.delta[0])
+    d = [st.delta[0] for st in loading["states"]]
+    assert all(b > a_ for a_, b in zip(d, d[1:]))
