@@ -23,8 +23,9 @@ from .solvers.onset import OnsetResult, onset  # noqa: F401 (issue 22: the onset
 
 __all__ = ["solve", "Scene", "Scene3D", "PAPER_SCENE", "ContactResult", "ContactResult3D",
            "Film", "Shape", "Interface", "FrictionLaw", "InputError", "ConvergenceError",
-           "SpectralContactError", "METHODS", "MODELS", "sensor", "SensorView", "sweep",
+           "SpectralContactError", "METHODS", "MODELS", "sensor", "invert", "SensorView", "sweep",
            "__version__"]
+
 
 def __getattr__(name):  # the sensor view needs scipy.special: imported on first use only
     if name in ("sensor", "SensorView"):
@@ -33,6 +34,11 @@ def __getattr__(name):  # the sensor view needs scipy.special: imported on first
         value = getattr(mems_view, name)
         globals()[name] = value
         return value
+    if name == "invert":  # issue 21: the inverse, from base stresses to tractions
+        from .instruments.inverse import invert
+
+        globals()[name] = invert
+        return invert
     if name == "sweep":  # the module spectral_contact.sweep, callable as the function sweep(...)
         import spectral_contact.sweep as module  # (the import system sets the attribute)
 
