@@ -45,7 +45,7 @@ from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.partial_slip import PartialSlipOperator, SlipState, solve_slip_step
 from ..physics.film import Film
 from ..physics.indenters import Cylinder
-from ..physics.scene import Scene, check_tol
+from ..physics.scene import Scene, Scene3D, check_tol
 from .base import check_grid_points
 from .fft import MAX_POINTS, MIN_POINTS, solve_fft
 
@@ -93,6 +93,15 @@ def check_onset_scene(scene) -> Scene:
     if scene.load <= 0.0:
         raise InputError("--load must be > 0 N/m for onset")
     return scene
+
+
+def _check_amplitude(amplitude) -> float:
+    amp = amplitude if isinstance(amplitude, (int, float)) and not isinstance(amplitude, bool) \
+        else math.nan
+    if not 0.0 < amp <= 1.0:
+        raise InputError(f"amplitude (--amplitude) must be in (0, 1] (Q_max / (mu P)); got "
+                         f"{amplitude!r:.40}")
+    return float(amp)
 
 
 def _stick_edges(x, dx, stick, margin):
@@ -270,19 +279,50 @@ def onset(scene: Scene | None = None, *, steps: int = 20, tol: float | None = No
     if the refinement cannot meet tol.
     """
     if scene is None:
-        if params.get("indenter", "line") != "line":
-            raise InputError(f"onset: --indenter {params['indenter']} is not implemented yet "
-                             f"(line only)")
-        params.pop("indenter", None)
-        if "force" in params:
-            raise InputError("force [N] is for 3D indenters; onset takes a line indenter "
-                             "(load [N/m])")
-        try:
-            scene = Scene(**params)
-        except TypeError as exc:
-            raise InputError(f"onset: {exc}") from None
+        indenter = params.pop("indenter", "line")
+        if indenter != "line":
+            if indenter not in ("sphere", "paraboloid"):
+                raise InputError(f"onset: --indenter {indenter} is not implemented (line, "
+                                 f"sphere, paraboloid)")
+            if "load" in params:
+                raise InputError("load [N/m] is for the line indenter; a sphere takes force [N]")
+            try:
+                scene = Scene3D(indenter=indenter, **params)
+            except TypeError as exc:
+                raise InputError(f"onset: {exc}") from None
+        else:
+            if "force" in params:
+                raise InputError("force [N] is for 3D indenters; the line indenter takes load "
+                                 "[N/m]")
+            try:
+                scene = Scene(**params)
+            except TypeError as exc:
+                raise InputError(f"onset: {exc}") from None
     elif params:
         scene = scene.with_(**params)
+    if isinstance(scene, Scene3D):
+        from .onset3d import DEFAULT_TOL_3D, solve_onset3d
+
+        steps = _check_int("steps (--steps)", steps, 1, MAX_STEPS)
+        loading_steps = _check_int("loading_steps (--loading-steps)", loading_steps, 1,
+                                   MAX_STEPS)
+        if loading not in LOADINGS:
+            raise InputError(f"loading (--loading) must be one of {', '.join(LOADINGS)}; got "
+                             f"{loading!r}")
+        amp = _check_amplitude(amplitude)
+        grid_points = check_grid_points(grid_points, 32, 8192, "grid_points (--grid-points)",
+                                        even=True)
+        L_h = None
+        if domain_length is not None:
+            from ..physics.scene import check_positive
+
+            v = domain_length if np.ndim(domain_length) else (domain_length, domain_length)
+            L_h = tuple(check_positive("domain_length (--domain-length)", x, "m")
+                        / scene.length_unit for x in v)
+        return solve_onset3d(scene, q_path(steps, amp, bool(cycle)),
+                             DEFAULT_TOL_3D if tol is None else tol, loading=loading,
+                             loading_steps=loading_steps, grid_points=grid_points,
+                             domain_length=L_h, progress=progress)
     L_h = None
     if domain_length is not None:
         from ..physics.scene import check_positive
@@ -310,12 +350,7 @@ def solve_onset(scene: Scene, steps: int = 20, tol: float = DEFAULT_TOL, *, load
     scene = check_onset_scene(scene)
     steps = _check_int("steps (--steps)", steps, 1, MAX_STEPS)
     loading_steps = _check_int("loading_steps (--loading-steps)", loading_steps, 1, MAX_STEPS)
-    amp = amplitude if isinstance(amplitude, (int, float)) and not isinstance(amplitude, bool) \
-        else math.nan
-    if not 0.0 < amp <= 1.0:
-        raise InputError(f"amplitude (--amplitude) must be in (0, 1] (Q_max / (mu P)); got "
-                         f"{amplitude!r:.40}")
-    path = q_path(steps, float(amp), bool(cycle))
+    path = q_path(steps, _check_amplitude(amplitude), bool(cycle))
     if loading not in LOADINGS:
         raise InputError(f"loading (--loading) must be one of {', '.join(LOADINGS)}; got {loading!r}")
     tol = check_tol(tol)
