@@ -3,7 +3,8 @@ base -- contact pressure, base stresses, MEMS sensor view; plane strain (a line 
 paper's model) or 3D (a sphere, a finite cylinder, a paraboloid, any shape).
 
 Front door: ``solve(...) -> ContactResult`` (``ContactResult3D`` for a 3D indenter:
-``solve(indenter="sphere", force=1.0, mu=1.0)``); ``Scene`` / ``Scene3D`` hold the SI inputs;
+``solve(indenter="sphere", force=1.0, mu=1.0)``); ``Scene`` / ``Scene3D`` hold the SI inputs,
+or ``solve(film=Film(...), indenter=..., interface=Interface(...), load=...)`` composes them;
 ``sensor(result) -> SensorView`` is the MEMS sensor's view (imported on first use).
 ``sweep(...)`` solves the Cartesian product of options (a pandas table; the optional extra
 ``[sweep]``): imported on first use, so ``import spectral_contact`` imports neither pandas nor
@@ -12,12 +13,15 @@ dask.distributed.
 from ._version import __version__
 from .api import METHODS, MODELS, solve
 from .errors import ConvergenceError, InputError, SpectralContactError
+from .physics.film import Film
+from .physics.friction import FrictionLaw
+from .physics.interface import Interface
 from .physics.scene import PAPER_SCENE, Scene, Scene3D
 from .result import ContactResult, ContactResult3D
 from .solvers.onset import OnsetResult, onset  # noqa: F401 (issue 22: the onset of sliding)
 
 __all__ = ["solve", "Scene", "Scene3D", "PAPER_SCENE", "ContactResult", "ContactResult3D",
-           "InputError", "ConvergenceError",
+           "Film", "Interface", "FrictionLaw", "InputError", "ConvergenceError",
            "SpectralContactError", "METHODS", "MODELS", "sensor", "SensorView", "sweep",
            "__version__"]
 

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .physics.options import option
 from .physics.scene import Scene
 
 __all__ = ["ContactResult", "ContactResult3D", "JSON_KEYS", "JSON_KEYS_3D", "MAP_KEYS",
@@ -32,6 +33,35 @@ PROFILE_COLUMNS = ("x_m", "pressure_Pa", "surface_shear_Pa", "base_sigma_zz_Pa",
 _SCALARS = ("half_width", "center", "indentation", "max_pressure", "max_pressure_x", "grid_points",
             "domain_length", "iterations", "residual", "error_estimate")
 _ARRAYS = ("x", "pressure", "base_sigma_zz", "base_sigma_xz")
+
+
+class _SI:
+    """An SI view of a dimensionless attribute ``name``: its value times the scene's ``unit``
+    (``length_unit``, ``stress_unit``, ``displacement_unit``); a scalar as a float (+ 0.0 where
+    ``nozero``: no "-0.0" in the JSON record)."""
+
+    def __init__(self, name: str, unit: str, doc: str, array: bool = False, nozero: bool = False):
+        self.name, self.unit, self.array, self.nozero = name, unit, array, nozero
+        self.__doc__ = doc
+
+    def __get__(self, obj, owner=None):
+        if obj is None:
+            return self
+        v = getattr(obj, self.name) * getattr(obj.scene, self.unit)
+        if self.array:
+            return v
+        return float(v) + 0.0 if self.nozero else float(v)
+
+
+class _Scene:
+    """A field of the result's scene, read through (SI already)."""
+
+    def __init__(self, name: str, doc: str):
+        self.name = name
+        self.__doc__ = doc
+
+    def __get__(self, obj, owner=None):
+        return self if obj is None else getattr(obj.scene, self.name)
 
 
 @dataclass(repr=False, eq=False)
@@ -113,106 +143,39 @@ class ContactResult:
         """The paper's x0: apex position relative to the contact centre (= -center), in h."""
         return -self.center + 0.0
 
-    @property
-    def x_m(self):
-        return self.x * self.scene.length_unit
-
-    @property
-    def pressure_Pa(self):
-        return self.pressure * self.scene.stress_unit
-
-    @property
-    def surface_shear_Pa(self):
-        return self.surface_shear * self.scene.stress_unit
-
-    @property
-    def base_sigma_zz_Pa(self):
-        return self.base_sigma_zz * self.scene.stress_unit
-
-    @property
-    def base_sigma_xz_Pa(self):
-        return self.base_sigma_xz * self.scene.stress_unit
-
-    @property
-    def half_width_m(self) -> float:
-        """a, contact half-width [m] (of the envelope when the contact splits)."""
-        return float(self.half_width * self.scene.length_unit)
-
-    @property
-    def contact_center_m(self) -> float:
-        """x_c, contact centre relative to the apex [m] (> 0: toward the sliding direction)."""
-        return float(self.center * self.scene.length_unit) + 0.0
-
-    @property
-    def indentation_m(self) -> float:
-        """d, indentation depth [m] (the paper's 1/alpha)."""
-        return float(self.indentation * self.scene.displacement_unit)
-
-    @property
-    def load_N_per_m(self) -> float:
-        """P_L, the lineic load [N/m]."""
-        return self.scene.load
-
-    @property
-    def mu(self) -> float:
-        """mu_d, the signed friction coefficient (> 0: sliding toward +x)."""
-        return self.scene.mu
-
-    @property
-    def poisson(self) -> float:
-        return self.scene.poisson
-
-    @property
-    def friction_law(self) -> str:
-        return self.scene.friction_law
+    # SI views, one line each: (dimensionless attribute, the scene's unit) or a scene field
+    x_m = _SI("x", "length_unit", "node positions [m] from the apex", array=True)
+    pressure_Pa = _SI("pressure", "stress_unit", "p(x) >= 0 [Pa]", array=True)
+    surface_shear_Pa = _SI("surface_shear", "stress_unit", "sigma_xz(x, h) [Pa]", array=True)
+    base_sigma_zz_Pa = _SI("base_sigma_zz", "stress_unit", "sigma_zz(x, 0) [Pa]", array=True)
+    base_sigma_xz_Pa = _SI("base_sigma_xz", "stress_unit", "sigma_xz(x, 0) [Pa]", array=True)
+    half_width_m = _SI("half_width", "length_unit",
+                       "a, contact half-width [m] (of the envelope when the contact splits)")
+    contact_center_m = _SI("center", "length_unit", "x_c, contact centre relative to the apex "
+                           "[m] (> 0: toward the sliding direction)", nozero=True)
+    indentation_m = _SI("indentation", "displacement_unit",
+                        "d, indentation depth [m] (the paper's 1/alpha)")
+    x0_m = _SI("x0", "length_unit", "the paper's x0 [m]: apex relative to the contact centre "
+               "(= -contact_center_m)", nozero=True)
+    max_pressure_Pa = _SI("max_pressure", "stress_unit", "peak pressure [Pa]")
+    max_pressure_x_m = _SI("max_pressure_x", "length_unit", "where the pressure peaks [m], apex "
+                           "frame")
+    domain_length_m = _SI("domain_length", "length_unit", "length covered by the profiles [m]: "
+                          "the FFT period, or the Abel sampling window")
+    load_N_per_m = _Scene("load", "P_L, the lineic load [N/m]")
+    mu = _Scene("mu", "mu_d, the signed friction coefficient (> 0: sliding toward +x)")
+    poisson = _Scene("poisson", "nu, the film's Poisson ratio")
+    friction_law = _Scene("friction_law", "the friction law")
+    interface_compliance_m_per_Pa = _Scene("interface_compliance", "C [m/Pa]")
+    interface_law = _Scene("interface_law", "the interface law")
+    young_Pa = _Scene("young", "E, the film's Young modulus [Pa]")
+    radius_m = _Scene("radius", "R, the cylinder's radius [m]")
+    thickness_m = _Scene("thickness", "h, the film's thickness [m]")
 
     @property
     def Q_over_P(self) -> float:  # noqa: N802 (the JSON key)
         """The macroscopic Q/P (``friction_ratio``)."""
         return self.friction_ratio
-
-    @property
-    def interface_compliance_m_per_Pa(self) -> float:
-        return self.scene.interface_compliance
-
-    @property
-    def interface_law(self) -> str:
-        return self.scene.interface_law
-
-    @property
-    def young_Pa(self) -> float:
-        """E, the film's Young modulus [Pa]."""
-        return self.scene.young
-
-    @property
-    def radius_m(self) -> float:
-        """R, the cylinder's radius [m]."""
-        return self.scene.radius
-
-    @property
-    def thickness_m(self) -> float:
-        """h, the film's thickness [m]."""
-        return self.scene.thickness
-
-    @property
-    def x0_m(self) -> float:
-        """The paper's x0 [m]: apex relative to the contact centre (= -contact_center_m)."""
-        return float(-self.center * self.scene.length_unit) + 0.0  # + 0.0: no "-0.0"
-
-    @property
-    def max_pressure_Pa(self) -> float:
-        """Peak pressure [Pa]."""
-        return float(self.max_pressure * self.scene.stress_unit)
-
-    @property
-    def max_pressure_x_m(self) -> float:
-        """Where the pressure peaks [m], apex frame."""
-        return float(self.max_pressure_x * self.scene.length_unit)
-
-    @property
-    def domain_length_m(self) -> float:
-        """Length covered by the profiles [m]: the FFT period, or the Abel sampling window."""
-        return float(self.domain_length * self.scene.length_unit)
 
     @property
     def contact_intervals(self) -> list[tuple[float, float]]:
@@ -251,9 +214,9 @@ class ContactResult:
             if isinstance(value, np.generic):
                 rec[key] = value.item()
         rec |= self.scene.friction.describe()  # the law's parameters (none for Amontons)
-        if self.scene.interface_law == "exponential":
-            rec |= {"interface_pressure_Pa": self.scene.interface_pressure,
-                    "interface_length_m": self.scene.interface_length}
+        if self.scene.interface_law == "exponential":  # its parameters, by their JSON keys
+            rec |= {option(n).json: getattr(self.scene, n)
+                    for n in ("interface_pressure", "interface_length")}
         if self.auto_reason is not None:
             rec["auto_reason"] = self.auto_reason
         return rec

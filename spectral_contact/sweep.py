@@ -71,7 +71,7 @@ from .errors import ConvergenceError, InputError
 from .physics import options as _table
 
 __all__ = ["sweep", "OPTIONS", "TIMING_COLUMNS", "STATUSES", "parse_values", "read_spec",
-           "scenes", "scene_key", "solve_row", "table_columns", "connect_scheduler", "local_client",
+           "scenes", "scene_key", "scene_of", "solve_row", "table_columns", "connect_scheduler", "local_client",
            "DASK_CONFIG", "check_workers", "map_tasks"]
 
 STATUSES = ("ok", "input_error", "not_converged", "crashed")
@@ -211,6 +211,7 @@ def scenes(options: dict) -> list[dict]:
     if unknown:
         raise InputError(f"unknown option {unknown[0]!r} (accepted: {', '.join(OPTIONS)})")
     given = {k: parse_values(k, v) for k, v in options.items() if v is not None}
+    check_product(given)  # issue 24: before enumerating
     names = list(given)
     rows = []
     for combo in itertools.product(*(given[n] for n in names)):
@@ -251,12 +252,19 @@ def table_columns() -> list[str]:
     return ["key", *OPTIONS, "status", "message", *_summary_names()]
 
 
+def scene_of(params: dict):
+    """The scene (``Scene`` or ``Scene3D``) of a row's parameters (``api.make_scene``)."""
+    from .api import make_scene
+
+    return make_scene(**{k: params[k] for k in _SCENE_KEYS if params[k] is not None})
+
+
 def _solve(params: dict):
     from .api import solve
 
-    scene = {k: params[k] for k in _SCENE_KEYS if params[k] is not None}
-    return solve(model=params["model"], method=params["method"], tol=params["tol"],
-                 grid_points=params["grid_points"], domain_length=params["domain_length"], **scene)
+    return solve(scene_of(params), model=params["model"], method=params["method"],
+                 tol=params["tol"], grid_points=params["grid_points"],
+                 domain_length=params["domain_length"])
 
 
 def _task(params: dict, profiles: bool = False):
@@ -315,6 +323,8 @@ class _Store:
     """``out/scenes/<key>.json`` per finished scene; ``out/profiles/<key>.csv`` when asked."""
 
     def __init__(self, out, profiles: bool):
+        if out is not None and not str(out).strip():  # issue 24: Path("") is the current folder
+            raise InputError("--out: empty folder name")
         self.out = Path(out) if out is not None else None
         self.profiles = profiles
         if self.out is None:
@@ -344,8 +354,11 @@ class _Store:
                 or rec.get("params") != params or not isinstance(rec.get("row"), dict)):
             return None
         if self.profiles and rec["row"].get("status") == "ok" and not all(
-                (self.prof / f"{key}{ext}").is_file() for ext in self._kinds(params)):
-            return None  # stored by a run without profiles: solve again for them
+                _file_digest(self.prof / f"{key}{ext}") == rec.get("files", {}).get(f"{key}{ext}")
+                for ext in self._kinds(params)):
+            # stored by a run without profiles, or a profile file missing, truncated or changed
+            # since (issue 24: every reused file is verified against its recorded sha256)
+            return None
         return rec["row"]
 
     @staticmethod
@@ -356,6 +369,7 @@ class _Store:
         if self.out is None or row["status"] == "crashed":
             return
         key = row["key"]
+        files = {}
         if prof is not None:
             maps = None
             if "maps" in prof:
@@ -363,8 +377,19 @@ class _Store:
             _atomic_write(self.prof / f"{key}.csv", lambda fh: _write_profiles(fh, prof))
             if maps is not None:
                 _atomic_npz(self.prof / f"{key}.npz", maps)
-        rec = {"key": key, "version": _version(), "params": params, "row": row}
+            files = {f"{key}{ext}": _file_digest(self.prof / f"{key}{ext}")
+                     for ext in self._kinds(params)}
+        rec = {"key": key, "version": _version(), "params": params, "row": row, "files": files}
         _atomic_write(self.scenes / f"{key}.json", lambda fh: json.dump(rec, fh, indent=1))
+
+
+def _file_digest(path: Path):
+    """sha256 of a file's bytes (None if it cannot be read): a reused profile must match the
+    digest recorded with its scene."""
+    try:
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+    except OSError:
+        return None
 
 
 def _atomic_npz(path: Path, arrays: dict) -> None:
@@ -447,12 +472,100 @@ def connect_scheduler(address: str, timeout: float = 10.0):
 
     if not isinstance(address, str) or "://" not in address and ":" not in address:
         raise InputError(f"--scheduler must be an address such as tcp://HOST:PORT; got {address!r}")
+    probe_scheduler(address, timeout)
     logging.getLogger("distributed").setLevel(logging.CRITICAL)
+    client = None
+    old_hook = sys.unraisablehook  # a half-made Client's __del__ times out noisily: keep quiet
+    sys.unraisablehook = lambda unraisable: None
     try:
-        return Client(address, timeout=timeout, set_as_default=False)
-    except (OSError, TimeoutError, ValueError) as exc:
+        client = Client(address, timeout=timeout, set_as_default=False)
+        return client
+    except Exception as exc:  # noqa: BLE001 -- whatever the peer did: one line
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise InputError(f"--scheduler {address}: unreachable ({msg[:160]})") from None
+    finally:
+        if client is None:
+            import gc
+
+            gc.collect()
+        sys.unraisablehook = old_hook
+
+
+# --- issue 24: the sweep's bounds, checked before any work ----------------------------------------
+MAX_SCENES = 100_000
+"""Largest Cartesian product of a sweep (the product of the option lists' lengths, checked before
+it is enumerated): 10^5 scenes of ~10 ms are ~20 min on 1 core, and their table ~100 MB."""
+WORKERS_PER_CORE = 2
+"""--workers is bounded by this many per usable core (each worker is one process with one
+thread: more only adds start-up time and memory; 1000 never started on 2 cores)."""
+_HANDSHAKE_MAX = 1 << 20  # a dask handshake is ~100 bytes; 1 MiB is nothing a scheduler sends
+
+
+def max_workers() -> int:
+    """The bound of --workers: WORKERS_PER_CORE x the usable cores."""
+    return WORKERS_PER_CORE * _default_workers()
+
+
+def check_product(given: dict) -> int:
+    """The number of scenes of ``given`` ({option: values}), InputError above MAX_SCENES."""
+    n = 1
+    for v in given.values():
+        n *= len(v)
+    if n > MAX_SCENES:
+        sizes = " x ".join(f"{len(v)} (--{_flag(k)})" for k, v in given.items() if len(v) > 1)
+        raise InputError(f"the sweep has {sizes} = {n:.4g} scenes: at most {MAX_SCENES} (split it "
+                         f"into several sweeps sharing --out)")
+    return n
+
+
+def probe_scheduler(address: str, timeout: float) -> None:
+    """Check, with a raw socket and a hard ``timeout``, that a tcp:// ``address`` speaks dask's
+    protocol before a Client is made: a dask server writes its handshake first (8-byte length,
+    then ~100 bytes).  Something else (an HTTP server: silent; random bytes: a "length" of
+    exabytes) is an InputError naming --scheduler, within ``timeout``."""
+    import socket
+    import struct
+
+    scheme, _, rest = address.rpartition("://")
+    if scheme not in ("", "tcp"):
+        return  # tls://, inproc://, ...: left to dask
+    host, _, port = rest.rpartition(":")
+    host = host.strip("[]")
+    try:
+        port_n = int(port)
+    except ValueError:
+        port_n = -1
+    if not host or not 0 < port_n < 65536:
+        raise InputError(f"--scheduler must be an address such as tcp://HOST:PORT (PORT in 1 ... "
+                         f"65535); got {address!r}")
+    deadline = time.monotonic() + timeout
+
+    def recv(sock, n):
+        data = b""
+        while len(data) < n:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                raise TimeoutError
+            sock.settimeout(left)
+            chunk = sock.recv(n - len(data))
+            if not chunk:
+                raise ConnectionError("closed by the peer")
+            data += chunk
+        return data
+
+    try:
+        with socket.create_connection((host, port_n), timeout=timeout) as sock:
+            (n,) = struct.unpack("<Q", recv(sock, 8))
+            if not 0 < n <= _HANDSHAKE_MAX:
+                raise InputError(f"--scheduler {address}: not a dask scheduler (its first bytes "
+                                 f"announce a message of {n:.3g} bytes; dask's handshake is ~100)")
+            recv(sock, n)
+    except TimeoutError:
+        raise InputError(f"--scheduler {address}: no dask handshake within --scheduler-timeout "
+                         f"{timeout:g} s (not a dask scheduler, or not answering)") from None
+    except OSError as exc:
+        raise InputError(f"--scheduler {address}: unreachable ({exc.strerror or exc})") from None
+# --- end of issue 24's bounds ---------------------------------------------------------------------
 
 
 def _worker_version():
@@ -759,8 +872,10 @@ def sweep(spec=None, *, out=None, engine: str = "local", workers: int | None = N
     todo_all = plan(spec, **options)
     if engine not in ("local", "serial"):
         raise InputError(f"engine must be 'local' or 'serial'; got {engine!r}")
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-        raise InputError(f"--workers must be an integer >= 1; got {workers!r}")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
+                                or not 1 <= workers <= max_workers()):
+        raise InputError(f"--workers must be an integer in [1, {max_workers()}] ({WORKERS_PER_CORE} "
+                         f"per usable core); got {workers!r}")
     store = _Store(out, profiles)
     if profiles and out is None:
         raise InputError("--profiles needs --out DIR")

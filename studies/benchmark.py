@@ -37,6 +37,7 @@ from spectral_contact.numerics.fft import get_rfft
 from spectral_contact.numerics.grid import Grid
 from spectral_contact.physics.indenters import Cylinder
 
+from . import three_d_cost
 from ._common import median_time, parse, progress, table
 from .peers import benchmark_peers
 
@@ -99,6 +100,7 @@ def targets(scene, rows: list[dict], out, quick: bool = False) -> list[dict]:
         ms = [r_["solve_ms"] for r_ in rows[1:] if r_["N"] == 2**e]
         out_rows.append(_target(f"fixed grid 2^{e}, cold start: solve time", ms[0] if ms else
                                 float("nan"), limit, "ms", None if ms else "not measured (quick)"))
+    out_rows += three_d_cost.benchmark_targets(out, quick)  # issue 25: surfaces
     out_rows += estimate_targets(quick)
     out_rows += benchmark_peers(out, quick, TARGET_REPEATS)  # ">= 10x the peers" (studies/peers.py)
     table(out_rows, out / "benchmark_targets.csv",

@@ -36,6 +36,15 @@ D. "fixed grids" (issue 13's targets, ``fixed_grid_comparison``; what studies.be
    also in FFT-pair times of that N.  A target compares us with each peer's fastest
    configuration.  Writes peers_fixed.csv.
 
+E. "surfaces" (issue 25, ``surface_comparison``): the frictionless sphere of the 3D speed
+   target (F = 1 N, R = 130 mm on the paper's film: a ~ 1.3 h) on N x N grids (256^2, 1024^2;
+   256^2 with --quick) over a 30 mm period, two operators as in D: the film (ours; tamaas'
+   PKR on a basic_2d model with the film's symbol registered from Python; ContactMechanics'
+   2D layer, nu = 1/2 - 1e-8) and the half-space (ours through ``HALF_SPACE``; tamaas'
+   Westergaard and the same symbol from Python; ContactMechanics' 2D half-space).  Equal
+   accuracy and timing as D; ours is the core fixed-grid solve (``solve_contact``, cold).
+   Writes peers_surface.csv; ``surface_targets`` gives the ">= 5x tamaas at 1024^2" rows.
+
 Same scene, same grid (cases A-C): our automatic solve at ``tol`` fixes the period L and the number of
 points N (its final level); every solver, ours included (``numerics.contact.solve_contact``,
 cold start), then solves on that grid.  Units: ours (lengths h, stresses E h/6R = G h/2R,
@@ -625,6 +634,215 @@ def benchmark_peers(out, quick: bool = False, repeats: int = 11) -> list[dict]:
     return peer_targets(rows)
 
 
+# --- E. surfaces (issue 25) --------------------------------------------------------------------
+SURFACE_EXPS = (8, 10)    # N x N grids: 256^2, 1024^2
+SURFACE_SPEEDUP = 5.0     # issue 25: at least 5x tamaas with the same symbol at 1024^2
+SURFACE_PERIOD_M = 0.03   # the 3D speed target's period
+
+
+def surface_residual(grid: Grid, p: np.ndarray, P: float, symbol: np.ndarray) -> float:
+    """``common_residual`` on a surface grid (f = x^2 + y^2)."""
+    w = get_rfft(grid.shape).apply(p, symbol)
+    X, Y = np.meshgrid(*grid.axes, indexing="ij")
+    f = X**2 + Y**2
+    act = p > 0
+    if not act.any():
+        return float("inf")
+    d = float(np.mean((f + w)[act]))
+    g = f + w - d
+    scale = max(abs(d), 1e-300)
+    gap = float(np.max(np.abs(g[act]))) / scale
+    pen = float(max(0.0, -g[~act].min(initial=0.0))) / scale
+    load = abs(float(np.sum(p)) * grid.cell - P) / P
+    return max(gap, pen, load)
+
+
+def tamaas_surface_runner(grid: Grid, P: float, symbol: np.ndarray | None = None,
+                          tol: float = RTOL):
+    """tamaas' PKR on a basic_2d model (E* = 4: Westergaard's compliance is 1/(2|k|)), its own
+    operator or ``symbol`` registered from Python (as ``tamaas_operator``, in 2D)."""
+    import tamaas as tm
+
+    shape, lengths = grid.shape, grid.lengths
+    X, Y = np.meshgrid(*grid.axes, indexing="ij")
+    heights = -(X**2 + Y**2)
+    fft = get_rfft(shape)
+
+    class SymbolOperator(tm.IntegralOperator):
+        def __init__(self, model):
+            super().__init__(model)
+
+        def apply(self, inp, out):
+            out[...] = fft.apply(np.asarray(inp).reshape(shape), symbol).reshape(out.shape)
+
+        def getKind(self):
+            return tm.IntegralOperator.neumann
+
+        def getType(self):
+            return tm.model_type.basic_2d
+
+        def updateFromModel(self):
+            pass
+
+    def run():
+        tm.set_log_level(tm.LogLevel.error)
+        model = tm.ModelFactory.createModel(tm.model_type.basic_2d, list(lengths), list(shape))
+        model.E, model.nu = 3.0, 0.5
+        solver = tm.PolonskyKeerRey(model, heights, tol)
+        if symbol is not None:
+            model.operators["spectral_contact_symbol"] = SymbolOperator(model)
+            solver.setIntegralOperator("spectral_contact_symbol")
+        solver.max_iter = 100000
+        t = time.perf_counter()
+        err = solver.solve(P / (lengths[0] * lengths[1]))
+        dt = time.perf_counter() - t
+        return {"p": np.asarray(model.traction, dtype=float).reshape(shape), "t": dt,
+                "its": "n/a", "cost": "n/a", "note": f"own error {float(err):.1e}"}
+    return run
+
+
+def contactmechanics_surface_runner(grid: Grid, P: float, film: bool, d_scale: float,
+                                    p_scale: float, tol: float = RTOL):
+    """ContactMechanics' constrained CG on the 2D grid: its layer (film) or half-space."""
+    from ContactMechanics import PeriodicFFTElasticHalfSpace
+    from ContactMechanics.Optimization import constrained_conjugate_gradients
+
+    shape, lengths = grid.shape, grid.lengths
+    if film:
+        sub = PeriodicFFTElasticHalfSpace(shape, 3.0, physical_sizes=lengths, thickness=1.0,
+                                          poisson=CM_INCOMPRESSIBLE_POISSON)
+    else:
+        sub = PeriodicFFTElasticHalfSpace(shape, 4.0, physical_sizes=lengths)
+    X, Y = np.meshgrid(*grid.axes, indexing="ij")
+    heights = -(X**2 + Y**2)
+    kw = dict(external_force=P, pentol=tol * d_scale,
+              forcetol=tol * p_scale * sub.area_per_pt, thermotol=tol, maxiter=100000)
+
+    def run():
+        t = time.perf_counter()
+        res = constrained_conjugate_gradients(sub, heights, **kw)
+        dt = time.perf_counter() - t
+        return {"p": np.asarray(res.jac).reshape(shape) / sub.area_per_pt, "t": dt,
+                "its": int(res.nit), "cost": int(res.nfev),
+                "note": "" if res.success else "not converged"}
+    return run
+
+
+def surface_comparison(exps=SURFACE_EXPS, level: float = LEVEL, repeats: int = 5,
+                       versions: dict | None = None, operators=("film", "half-space"),
+                       log=print) -> list[dict]:
+    """Case E: the frictionless sphere on N x N grids (see the module's docstring), rows in
+    the format of ``fixed_grid_comparison``'s."""
+    from spectral_contact.physics.indenters import Sphere
+    from spectral_contact.physics.scene import Scene3D
+
+    versions = versions or peers_available()
+    if present(versions, "tamaas"):
+        import tamaas
+
+        tamaas.initialize(1)
+    scene = Scene3D(force=1.0, mu=0.0)
+    L, P = SURFACE_PERIOD_M / scene.length_unit, scene.P
+    ind = [Sphere(0.0, P)]
+    rows = []
+    for operator in operators:
+        film = Film() if operator == "film" else HALF_SPACE
+        for e in exps:
+            n = 2**e
+            grid = Grid.centered((n, n), (L, L))
+            sym = film.surface_compliance(grid.direction, grid.kmag, 0.0).real
+            ref = solve_contact(grid, 0.0, ind, rtol=REF_RTOL, film=film)
+            p_ref = ref.pressure
+
+            def ours(tol, grid=grid, film=film):
+                def run():
+                    t = time.perf_counter()
+                    sol = solve_contact(grid, 0.0, ind, rtol=tol, film=film)
+                    dt = time.perf_counter() - t
+                    return {"p": sol.pressure, "t": dt,
+                            "its": f"{sol.iterations}+{sol.coarse_iterations} "
+                                   f"({sol.krylov_iterations}+{sol.coarse_krylov_iterations})",
+                            "cost": sol.fft_pairs, "note": ""}
+                return run
+
+            d_scale, p_scale = float(ref.indentations[0]), float(p_ref.max())
+            solvers = {OURS_FIXED: ("this", ours)}
+            cm = f"ContactMechanics {'layer' if operator == 'film' else 'half-space'} (2D)"
+            solvers[cm] = ("ContactMechanics", lambda tol, grid=grid, f=operator == "film":
+                           contactmechanics_surface_runner(grid, P, f, d_scale, p_scale, tol))
+            if operator == "film":
+                solvers["tamaas PKR 2D (film operator from Python)"] = (
+                    "tamaas", lambda tol, grid=grid, sym=sym:
+                    tamaas_surface_runner(grid, P, sym, tol))
+            else:
+                solvers["tamaas PKR 2D (Westergaard)"] = (
+                    "tamaas", lambda tol, grid=grid: tamaas_surface_runner(grid, P, None, tol))
+                solvers["tamaas PKR 2D (half-space operator from Python)"] = (
+                    "tamaas", lambda tol, grid=grid, sym=sym:
+                    tamaas_surface_runner(grid, P, sym, tol))
+            chosen, lines = {}, {}
+            for name, (pkg, make) in solvers.items():
+                version = "this" if pkg == "this" else versions[pkg]
+                if pkg != "this" and not present(versions, pkg):
+                    lines[name] = {"version": version, "status": "not measured (peer not installed)"}
+                    continue
+                tol, run, err, exc = _loosest_meeting(make, p_ref, level)
+                if tol is None:
+                    why = f"; last failure {type(exc).__name__}: {exc}"[:100] if exc else ""
+                    lines[name] = {"version": version, "dp_ref": err,
+                                   "status": f"not measured (best {err:.1e} > {level:g}{why})"}
+                    continue
+                chosen[name] = run
+                lines[name] = {"version": version, "tol": tol, "dp_ref": err, "status": "timed"}
+            res = time_round_robin(chosen, repeats, stat="median") if chosen else {}
+            from ._common import median_time
+
+            f2 = get_rfft((n, n))
+            a = np.random.default_rng(0).random((n, n))
+            pair = median_time(lambda f2=f2, a=a, sym=sym: f2.apply(a, sym), 11, warm=True)
+            t0 = res[OURS_FIXED]["t"] if OURS_FIXED in res else float("nan")
+            for name, line in lines.items():
+                row = {"operator": operator, "N": n, "L_h": L, "solver": name,
+                       "version": line["version"], "tol": line.get("tol", float("nan")),
+                       "dp_ref": line.get("dp_ref", float("nan")), "residual": float("nan"),
+                       "iterations": "-", "fft_pairs": "-", "time_ms": float("nan"),
+                       "time_ratio": float("nan"), "time_in_fft_pairs": float("nan"),
+                       "fft_pair_us": 1e6 * pair, "status": line["status"]}
+                if name in res:
+                    x = res[name]
+                    row.update(residual=surface_residual(grid, x["p"], P, sym),
+                               iterations=x["its"], fft_pairs=x["cost"], time_ms=1e3 * x["t"],
+                               time_ratio=x["t"] / t0, time_in_fft_pairs=x["t"] / pair)
+                rows.append(row)
+            if log:
+                log(f"  surface {operator} {n}^2: " + "; ".join(
+                    f"{r_['solver']} {r_['time_ratio']:.3g}x" for r_ in rows[-len(lines):]
+                    if r_["solver"] != OURS_FIXED))
+    return rows
+
+
+def surface_targets(rows: list[dict], level: float = LEVEL) -> list[dict]:
+    """Issue 25's peer target from ``surface_comparison`` rows: at each N and operator, tamaas'
+    fastest configuration's time / ours >= SURFACE_SPEEDUP (ContactMechanics reported too)."""
+    out = []
+    groups = {}
+    for r_ in rows:
+        if r_["solver"] != OURS_FIXED:
+            groups.setdefault((r_["operator"], r_["N"], r_["solver"].split()[0]), []).append(r_)
+    for (operator, n, peer), rs in groups.items():
+        name = (f"surface: vs {peer} {operator} {n}^2 (frictionless sphere, same grid, p to "
+                f"{level:g} p_max): peer time / our time")
+        timed = [r_ for r_ in rs if r_["status"] == "timed"]
+        if timed:
+            ratio = min(r_["time_ratio"] for r_ in timed)
+            status = "met" if ratio >= SURFACE_SPEEDUP else "not met"
+        else:
+            ratio, status = float("nan"), rs[0]["status"]
+        out.append({"target": name, "measured": ratio, "limit": SURFACE_SPEEDUP,
+                    "unit": "x (>= limit)", "status": status})
+    return out
+
+
 def main(argv=None) -> int:
     args, out = parse(argv, __doc__.splitlines()[0], "out/peers")
     versions = peers_available()
@@ -676,6 +894,14 @@ def main(argv=None) -> int:
           f"D: frictionless, fixed grids, each solver at the loosest tolerance giving p within "
           f"{LEVEL:g} max p of ours at rtol {REF_RTOL:g}; time_ratio = time / ours")
     for t in peer_targets(fixed):
+        print(f"{t['target']}: {t['measured']:.3g} (>= {t['limit']:g}: {t['status']})")
+    surf = surface_comparison((8,) if args.quick else SURFACE_EXPS,
+                              repeats=3 if args.quick else 5, versions=versions)
+    table(surf, out / "peers_surface.csv",
+          f"E: frictionless sphere (1 N, R 130 mm, film h 2 mm, period 30 mm), N x N grids, each "
+          f"solver at the loosest tolerance giving p within {LEVEL:g} max p of ours at rtol "
+          f"{REF_RTOL:g}; time_ratio = time / ours")
+    for t in surface_targets(surf):
         print(f"{t['target']}: {t['measured']:.3g} (>= {t['limit']:g}: {t['status']})")
     try:
         _plot(plots, out / "peers.png")

@@ -1,10 +1,13 @@
-"""Adversarial inputs for issue 11: run each through the command line and tally the outcomes.
+"""Adversarial inputs for issues 11 and 24: run each through the command line and tally the outcomes.
 
     python tests/reliability_probe.py [--jobs 2]
 
 Each case: argv, the accepted exit codes, and checks applied to every run: one stderr line on a
 non-zero exit, no traceback, no NaN/Infinity in stdout, no file left behind on a non-zero exit,
-no timeout (60 s).  Prints one line per failing case and the tallies.  Runs in a scratch folder.
+no timeout (60 s), every input (the fixtures, linked into the case's folder) unchanged.  A case
+may set up its folder (a spec that is the summary a sweep writes; a sweep whose profile is then
+truncated, checked to be recomputed), run with stdout closed or full (/dev/full), or run Python
+(``["py", CODE]``: the API).  Prints one line per failing case and the tallies.  Runs in a scratch folder.
 ``--src DIR`` runs another checkout (e.g. ``git archive de44ce0 | tar -x -C DIR``: "before").
 """
 from __future__ import annotations
@@ -134,6 +137,68 @@ CASES = [
     (["compare", MEAS, "--radius", "1e-300", "--no-fit"], {2}, "compare tiny R"),
     (["compare", MEAS, "--tol", "1e-308", "--no-fit"], {2}, "compare tiny tol"),
     (["compare", MEAS, "--apparatus-zz", "missing.csv"], {2}, "apparatus missing"),
+    # --- issue 24: outputs naming inputs, metadata collisions, stdout, subnormals, laws, sweeps ---
+    ([S, "--sensor", "--apparatus-zz", "G.csv", "--profiles", "G.csv"], {2}, "output over input"),
+    ([S, "--sensor", "--apparatus-xz", "G.csv", "--plot", "G.png", "--profiles", "./G.csv"], {2},
+     "output over input (./)"),
+    ([S, "--sensor", "--apparatus-zz", "hl.csv", "--profiles", "G.csv"], {2}, "hard link"),
+    (["calibrate", "--measured", RAD, "--punch-load", "1", "--out", RAD], {2}, "--out over input"),
+    (["calibrate", "--measured", RAD, "--punch-load", "1", "--plot", RAD], {2}, "plot over input"),
+    (["calibrate", "--measured", "radm.meta.json", "--punch-load", "1", "--out", "radm"], {2},
+     "implicit metadata over the input"),
+    (["compare", MEAS, "--plot", MEAS], {2}, "compare plot over measured"),
+    (["compare", MEAS, "--apparatus-zz", "G.csv", "--plot", "G.csv"], {2}, "plot over apparatus"),
+    ([S, "--indenter", "sphere", "--profiles", "p.csv", "--maps", "p.meta.json"], {2},
+     "maps over implicit metadata"),
+    ([S, "--tol", "1e-3", "--profiles", "d.csv", "--plot", "d.png"], {2},
+     "metadata path is a directory"),
+    ([S, "--tol", "1e-3", "--json", "--profiles", "p.csv"], {2}, "full stdout", None,
+     {"stdout": "full"}),
+    ([S, "--tol", "1e-3", "--json", "--profiles", "p.csv"], {2}, "closed stdout", None,
+     {"stdout": "closed"}),
+    ([S, "--tol", "1e-3", "--json"], {2}, "closed stdout, no file", None, {"stdout": "closed"}),
+    (["calibrate", "--measured", RAD, "--punch-load", "0.01", "--n-boot", "0", "--out", "g.csv"],
+     {2}, "calibrate full stdout", None, {"stdout": "full"}),
+    ([S, "--load", "4.9e-324"], {2}, "subnormal load"),
+    ([S, "--load", "4.9e-324", "--json"], {2}, "subnormal load json"),
+    ([S, "--load", "2e-310", "--model", "hertz"], {2}, "subnormal load hertz"),
+    ([S, "--friction-law", "power", "--friction-pref", "4.9e-324", "--tol", "1e-2"], {2},
+     "subnormal p_ref"),
+    ([S, "--friction-law", "power", "--friction-pref", "1e300", "--tol", "1e-2"], {2}, "huge p_ref"),
+    ([S, "--friction-law", "linear", "--shear-strength", "1e300", "--shear-slope", "1"], {2},
+     "huge tau_0"),
+    ([S, "--indenter", "cylinder", "--length", "4.9e-324"], {2}, "subnormal length"),
+    ([S, "--indenter", "paraboloid", "--radius-x", "4.9e-324"], {2}, "subnormal radius_x"),
+    ([S, "--indenter", "sphere", "--force", "4.9e-324"], {2}, "subnormal force"),
+    ([S, "--friction-law", "linear"], {2}, "law without its parameters"),
+    ([S, "--friction-law", "linear", "--shear-slope", "1", "--tol", "1e-2"], {0},
+     "linear law: its parameters in the header", "alpha = 1"),
+    (["compare", "mm.csv", "--json", "--tol", "1e-3"], {0}, "x in millimetres: fits failed",
+     '"best_model": null'),
+    (["sweep", "--workers", "1000", "--load", "100", "--out", "o"], {2}, "workers unbounded"),
+    (["sweep", "--load", "1:1000:1", "--mu", "1:1000:1", "--young", "1e6:1e7:1e6", "--out", "o",
+      "--serial"], {2}, "product uncapped"),
+    (["sweep", "--load", "100", "--out", "", "--serial"], {2}, "--out ''"),
+    (["sweep", "--spec", "spec.toml", "--out", "."], {2}, "spec among the outputs (--out .)",
+     None, {"setup": "summary"}),
+    (["sweep", "--load", "100", "--out", "o", "--scheduler", "{HTTP}", "--scheduler-timeout", "2"],
+     {2}, "scheduler is an HTTP server"),
+    (["sweep", "--load", "100", "--out", "o", "--scheduler", "{HUGE}", "--scheduler-timeout", "2"],
+     {2}, "bytes like a huge frame"),
+    (["sweep", "--load", "100", "--out", "o", "--scheduler", "tcp://127.0.0.1:"], {2},
+     "scheduler without a port"),
+    (["sweep", "--load", "100,200", "--tol", "1e-2", "--out", "o", "--serial", "--profiles"], {0},
+     "resume after a truncated profile", None, {"setup": "resume"}),
+    (["py", "import numpy as np, spectral_contact as sc\ntry:\n    sc.solve(indenter='function', "
+      "height=lambda x, y: np.full(np.broadcast(x, y).shape, 'a'), force=0.5, tol=1e-2)\n"
+      "except sc.InputError:\n    print('InputError')"], {0}, "API: height returns text",
+     "InputError"),
+    (["py", "import numpy as np, spectral_contact as sc\ntry:\n    sc.solve(indenter='function', "
+      "height=lambda x, y: np.where(x > 0, np.nan, x * x + y * y), force=0.5, tol=1e-2)\n"
+      "except sc.InputError:\n    print('InputError')"], {0}, "API: height returns NaN",
+     "InputError"),
+    (["py", "import spectral_contact as sc\ntry:\n    sc.sensor('x')\n"
+      "except sc.InputError:\n    print('InputError')"], {0}, "API: sensor('x')", "InputError"),
 ]
 
 
@@ -168,21 +233,111 @@ def _fixtures(d: Path):
         f"{a:.17g},{b * 1e300:.17g},{b * 1e300:.17g}" for a, b in zip(rr, U)) + "\n")
     r8 = rr[:8]
     (d / "rad8.csv").write_text("r_m,U_zz_mV\n" + "\n".join(f"{a:.17g},1" for a in r8) + "\n")
+    (d / "radm.meta.json").write_bytes((d / RAD).read_bytes())  # a radial profile, odd name
+    (d / "G.csv").write_text("r_m,G_per_m2\n0,1e6\n1e-4,9e5\n2e-4,5e5\n3e-4,1e5\n4e-4,0\n")
+    os.link(d / "G.csv", d / "hl.csv")
+    (d / "d.meta.json").mkdir()
+    sel = np.abs(r.x_m) < 0.016
+    (d / "mm.csv").write_text("x_m,S_zz_Pa,S_xz_Pa\n" + "\n".join(
+        f"{a * 1e3:.17g},{b:.17g},{c:.17g}" for a, b, c in
+        zip(r.x_m[sel][::8], s["S_zz_Pa"][sel][::8], s["S_xz_Pa"][sel][::8])) + "\n")
+
+
+_SERVERS = {}
+
+
+def _servers():
+    """{HTTP}: an HTTP server; {HUGE}: a server answering 64 bytes of 0xff (127.0.0.1 only)."""
+    import http.server
+    import socket
+    import threading
+
+    class Quiet(http.server.SimpleHTTPRequestHandler):
+        def log_message(self, *a):
+            pass
+
+    web = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Quiet)
+    threading.Thread(target=web.serve_forever, daemon=True).start()
+    raw = socket.socket()
+    raw.bind(("127.0.0.1", 0))
+    raw.listen(16)
+
+    def serve():
+        while True:
+            c, _ = raw.accept()
+            try:
+                c.sendall(b"\xff" * 64)
+            finally:
+                c.close()
+
+    threading.Thread(target=serve, daemon=True).start()
+    _SERVERS.update({"{HTTP}": f"tcp://127.0.0.1:{web.server_address[1]}",
+                     "{HUGE}": f"tcp://127.0.0.1:{raw.getsockname()[1]}"})
+
+
+def _digests(d: Path) -> dict:
+    """What each entry of a case folder is: (is a link, sha256 of what it leads to)."""
+    import hashlib
+
+    out = {}
+    for n in os.listdir(d):
+        p = d / n
+        h = hashlib.sha256(p.read_bytes()).hexdigest() if p.is_file() else None
+        out[n] = (p.is_symlink(), h)
+    return out
+
+
+def _setup(kind, d: Path, env, argv):
+    """Extra preparation of a case (in its folder); returns a check run after the case."""
+    if kind == "summary":
+        (d / "spec.toml").write_text("load = 100\n")
+        os.link(d / "spec.toml", d / "summary.csv")  # the spec is the summary the sweep writes
+        return None
+    if kind == "resume":
+        subprocess.run([sys.executable, "-m", "spectral_contact.cli.main", *argv], cwd=d,
+                       capture_output=True, timeout=120, env=env)
+        prof = sorted((d / "o" / "profiles").glob("*.csv"))
+        whole = prof[0].read_bytes()
+        prof[0].write_bytes(whole[: len(whole) // 2])
+
+        def check():
+            return [] if prof[0].read_bytes() == whole else ["truncated profile kept on resume"]
+        return check
+    raise ValueError(kind)
 
 
 def _run(case, root: Path):
     argv, ok_codes, note = case[:3]
+    opts = case[4] if len(case) > 4 else {}
+    argv = [_SERVERS.get(a, a) for a in argv]
     d = Path(tempfile.mkdtemp(dir=root))
     for f in root.glob("fix/*"):
         os.symlink(f, d / f.name)
+    env = dict(os.environ, **({"PYTHONPATH": SRC} if SRC else {}))
+    after_check = _setup(opts["setup"], d, env, argv) if "setup" in opts else None
     before = set(os.listdir(d))
+    inputs = _digests(d)
+    cmd = ([sys.executable, "-c", argv[1]] if argv[0] == "py" else
+           [sys.executable, "-m", "spectral_contact.cli.main", *argv])
+    kw = {}
+    if opts.get("stdout") == "closed":
+        kw = {"stdout": None, "stderr": subprocess.PIPE, "preexec_fn": lambda: os.close(1)}
+    elif opts.get("stdout") == "full":
+        kw = {"stdout": open("/dev/full", "w"), "stderr": subprocess.PIPE}
+    else:
+        kw = {"capture_output": True}
     try:
-        env = dict(os.environ, **({"PYTHONPATH": SRC} if SRC else {}))
-        p = subprocess.run([sys.executable, "-m", "spectral_contact.cli.main", *argv], cwd=d,
-                           capture_output=True, text=True, timeout=60, env=env)
+        p = subprocess.run(cmd, cwd=d, text=True, timeout=60, env=env, **kw)
     except subprocess.TimeoutExpired:
         return case, ["timeout (60 s)"], None
+    if p.stdout is None:
+        p.stdout = ""
     problems = []
+    changed = [n for n, v in inputs.items() if _digests(d).get(n) != v and n not in ("o",)]
+    if changed:
+        problems.append(f"inputs replaced or changed: {sorted(changed)}")
+    if after_check is not None:
+        problems += after_check()
     err = p.stderr.strip().splitlines()
     if p.returncode not in ok_codes:
         problems.append(f"exit {p.returncode} (want {sorted(ok_codes)})")
@@ -192,7 +347,7 @@ def _run(case, root: Path):
         problems.append(f"{len(err)} stderr lines")
     if any(w in p.stdout for w in ("NaN", "Infinity", " nan", " inf")):
         problems.append("NaN/inf in output")
-    if len(case) > 3 and p.returncode == 0 and case[3] not in p.stdout:
+    if len(case) > 3 and case[3] and p.returncode == 0 and case[3] not in p.stdout:
         problems.append(f"stdout lacks {case[3]!r}")
     left = set(os.listdir(d)) - before
     if p.returncode != 0 and left:
@@ -216,6 +371,7 @@ def main(argv=None) -> int:
     global SRC
     SRC = str(Path(args.src).resolve()) if args.src else None
     cases = [c for c in CASES if args.k in " ".join(c[0])]
+    _servers()
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(tmp)
         (root / "fix").mkdir()

@@ -8,6 +8,7 @@ directory, not empty, no two outputs on the same file, a plot format matplotlib 
 """
 from __future__ import annotations
 
+import errno
 import json
 import math
 import os
@@ -51,20 +52,57 @@ def check_output(path, option: str) -> Path:
     return p
 
 
-def check_outputs(**paths) -> dict:
-    """Check several outputs ({option: path or None}); refuse two options naming one file."""
+def _identity(path):
+    """What makes two paths one file: the resolved real path, and for an existing file its
+    (device, inode) too (hard links, bind mounts, case-folding file systems)."""
+    keys = {("path", os.path.realpath(path))}
+    try:
+        st = os.stat(path)
+    except OSError:
+        pass
+    else:
+        keys.add(("inode", st.st_dev, st.st_ino))
+    return keys
+
+
+def check_outputs(inputs=None, metas=(), **paths) -> dict:
+    """Check every file a command will write, before any work (one ``InputError`` line, exit 2).
+
+    ``paths``: {option: path or None}, the outputs as typed (``**{"--plot": "p.png"}``);
+    ``metas``: the options whose CSV also gets an implicit ``.meta.json`` beside it
+    (``meta_path``), checked as outputs too; ``inputs``: {option: path or None}, the files the
+    command reads.  Refused: an output that is a directory, not a regular file, in a folder that
+    does not exist; two outputs naming one file; an output naming an input (the same resolved
+    path, or the same inode: a hard link).  Returns {option: Path} of the given outputs."""
     out = {}
     seen = {}
+    for option, path in (inputs or {}).items():
+        if path is None or not str(path).strip():
+            continue
+        for key in _identity(path):
+            seen.setdefault(key, ("input", f"{option} {path}"))
+    planned = []
     for option, path in paths.items():
         if path is None:
             continue
         p = check_output(path, option)
-        key = os.path.realpath(p)
-        if key in seen:
-            raise InputError(f"{seen[key]} and {option} name the same file {path}: give two "
-                             f"different paths")
-        seen[key] = option
         out[option] = p
+        planned.append((f"{option} {path}", p))
+        if option in metas:
+            m = meta_path(p)
+            what = f"{option} {path}'s metadata"
+            planned.append((f"{what} {m}", check_output(m, what)))
+    for label, p in planned:
+        keys = _identity(p)
+        for key in keys:
+            if key not in seen:
+                continue
+            kind, other = seen[key]
+            if kind == "input":
+                raise InputError(f"{label} would overwrite the input {other}: give another path")
+            raise InputError(f"{other} and {label} are the same file: give different paths")
+        for key in keys:
+            seen[key] = ("output", label)
     return out
 
 
@@ -74,19 +112,24 @@ command, to say truthfully whether an interrupted command wrote anything)."""
 
 
 class Outputs:
-    """All-or-nothing output files.
+    """All-or-nothing output files, and the command's standard output with them.
 
         with Outputs() as outs:
             write_csv(outs.path("p.csv"), ...)
             fig.savefig(outs.path("p.png"))
-        # both renamed into place here, or neither (and no temporary left) on any exception
+            outs.print(summary)
+        # here: the summary written to stdout, then every file renamed into place; or, on any
+        # exception (stdout closed or full included), nothing: no target touched, no temporary left
 
     Temporaries are hidden files beside their targets, keeping the target's suffix (matplotlib
-    picks the format from it), created with the mode a new file would get (umask).
+    picks the format from it), created with the mode a new file would get (umask).  An error
+    while writing one names the user's file, never the temporary.  The renames are undone if one
+    of them fails (a replaced file is kept as a hard link until all are done).
     """
 
     def __init__(self):
         self._pending: list[tuple[Path, Path]] = []
+        self._stdout: list[str] = []
 
     def path(self, target) -> Path:
         target = Path(target)
@@ -104,18 +147,73 @@ class Outputs:
             return tmp
         raise OSError(f"cannot create a temporary file beside {target}")
 
+    def print(self, text: str) -> None:
+        """Stage ``text`` (a line is added) for stdout: written at the commit, before the renames."""
+        self._stdout.append(text + "\n")
+
+    def _write_stdout(self) -> None:
+        if not self._stdout:
+            return
+        import sys
+
+        text, self._stdout = "".join(self._stdout), []
+        if sys.stdout is None:
+            raise OSError(errno.EBADF, "standard output is closed", "standard output")
+        try:
+            sys.stdout.write(text)
+            sys.stdout.flush()
+        except BrokenPipeError:
+            raise
+        except (OSError, ValueError) as exc:
+            _silence_stdout()
+            raise OSError(getattr(exc, "errno", None) or errno.EIO,
+                          getattr(exc, "strerror", None) or str(exc), "standard output") from None
+
     def commit(self) -> None:
-        """Rename every temporary onto its target (signals held off meanwhile)."""
+        """Write the staged stdout, then rename every temporary onto its target (signals held
+        off meanwhile); if a rename fails, the targets already replaced are restored."""
         main = threading.current_thread() is threading.main_thread()
         sigs = {signal.SIGINT, signal.SIGTERM}
         if main:
             old = signal.pthread_sigmask(signal.SIG_BLOCK, sigs)
+        done, backups = [], []
         try:
+            self._write_stdout()
             for tmp, target in self._pending:
-                os.replace(tmp, target)
+                backup = None
+                if os.path.lexists(target):
+                    backup = target.with_name(f".{target.name}.{secrets.token_hex(4)}.bak")
+                    try:
+                        os.link(target, backup, follow_symlinks=False)
+                    except OSError:
+                        backup = None
+                    backups.append(backup)
+                try:
+                    os.replace(tmp, target)
+                except OSError as exc:
+                    raise OSError(exc.errno, exc.strerror, str(target)) from None
+                done.append((target, backup, os.path.lexists(target) and backup is not None))
+            for target, _, _ in done:
                 COMMITTED.append(target)
             self._pending = []
+        except BaseException:
+            for target, backup, _ in reversed(done):  # undo: the old file back, a new one removed
+                try:
+                    if backup is not None:
+                        os.replace(backup, target)
+                    else:
+                        os.unlink(target)
+                except OSError:
+                    pass
+            self._pending = [(t, g) for t, g in self._pending if os.path.lexists(t)]
+            raise
         finally:
+            for b in backups:
+                if b is not None:
+                    try:
+                        os.unlink(b)
+                    except OSError:
+                        pass
             if main:
                 signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
@@ -126,6 +224,21 @@ class Outputs:
             except OSError:
                 pass
         self._pending = []
+        self._stdout = []
+
+    def _user_error(self, exc):
+        """``exc`` naming the user's file instead of a temporary (an error without a file
+        name, "No space left on device", names the file being written: the last staged)."""
+        if not isinstance(exc, OSError) or not self._pending:
+            return None
+        names = {str(tmp): target for tmp, target in self._pending}
+        if exc.filename is None:
+            target = self._pending[-1][1]
+        elif str(exc.filename) in names:
+            target = names[str(exc.filename)]
+        else:
+            return None
+        return OSError(exc.errno, exc.strerror or str(exc), str(target))
 
     def __enter__(self):
         return self
@@ -137,9 +250,23 @@ class Outputs:
             except BaseException:
                 self.abort()
                 raise
-        else:
-            self.abort()
+            return False
+        user = self._user_error(exc)
+        self.abort()
+        if user is not None:
+            raise user from None
         return False
+
+
+def _silence_stdout() -> None:
+    """stdout cannot be written (closed, full): point fd 1 at /dev/null so that the
+    interpreter's final flush does not print a second error."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, 1)
+        os.close(devnull)
+    except OSError:
+        pass
 
 
 def write_csv(path, columns: dict, header_comment: str | None = None) -> Path:

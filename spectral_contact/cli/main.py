@@ -17,7 +17,7 @@ import threading
 from ..errors import ConvergenceError, InputError, SpectralContactError
 from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR
 from . import files as _files
-from .scene_options import add_scene_options, add_solve_options, scene_args
+from .scene_options import add_scene_options, add_solve_options, scene_from_args
 
 __all__ = ["main", "build_parser"]
 
@@ -40,6 +40,19 @@ def _plural(n: int, word: str) -> str:
     return f"{n} {word}" + ("" if n == 1 else "s")
 
 
+def _law_text(s: dict) -> str:
+    """The friction law with its parameters, for a summary's header (the linear law does not
+    use mu_d: it is not shown then)."""
+    law = s.get("friction_law", "amontons")
+    if law == "linear":
+        return (f"q = tau_0 + alpha p with tau_0 = {s['shear_strength_Pa']:g} Pa, alpha = "
+                f"{s['shear_slope']:g}")
+    if law == "power":
+        return (f"mu_d = {s['mu']:g} (p/p_ref)^-n with n = {s['friction_exponent']:g}, p_ref = "
+                f"{s['friction_pref_Pa']:g} Pa")
+    return f"mu_d = {s['mu']:g}"
+
+
 def _summary_text(r, view=None) -> str:
     """The text summary of a result (and of its sensor view, if given)."""
     s = r.to_dict()
@@ -50,7 +63,7 @@ def _summary_text(r, view=None) -> str:
     loaded = s["max_pressure_Pa"] > 0
     at = f" at x = {s['max_pressure_x_m'] * mm:.4f} mm" if loaded else ""
     lines = [
-        f"{s['model']} model, {s['method']} method: P_L = {s['load_N_per_m']:g} N/m, mu_d = {s['mu']:g}, "
+        f"{s['model']} model, {s['method']} method: P_L = {s['load_N_per_m']:g} N/m, {_law_text(s)}, "
         f"E = {s['young_Pa'] / 1e6:g} MPa, R = {s['radius_m'] * mm:g} mm, h = {s['thickness_m'] * mm:g} mm"
         + (f", nu = {s['poisson']:g}" if s["poisson"] != 0.5 else ""),
         f"  contact half-width a     {s['half_width_m'] * mm:10.5f} mm",
@@ -120,14 +133,14 @@ def _cmd_solve(args) -> int:
     from ..physics.scene import Scene
     from .files import Outputs, add_meta, check_outputs, check_plot_path, json_ready, to_json, write_csv
 
-    given = scene_args(args)
-    if given.pop("indenter", "line") != "line":
-        return _cmd_solve3d(args, given)
+    scene = scene_from_args(args)
+    if not isinstance(scene, Scene):
+        return _cmd_solve3d(args, scene)
     if args.maps is not None:
         raise InputError("--maps is for 3D indenters (--indenter sphere, cylinder, paraboloid); "
                          "the line indenter takes --profiles")
-    scene = Scene(**given)
-    outputs = check_outputs(**{"--profiles": args.profiles, "--plot": args.plot})
+    outputs = check_outputs(inputs=_inputs(args), metas=("--profiles",),
+                            **{"--profiles": args.profiles, "--plot": args.plot})
     if args.plot is not None:
         check_plot_path(args.plot)
     apparatus = None
@@ -162,14 +175,19 @@ def _cmd_solve(args) -> int:
             from .plots import plot_result
 
             plot_result(r, outs.path(outputs["--plot"]), sensor=view)
-    if args.json:
-        print(to_json(json_ready(record)))  # null, not NaN (no peak at zero load)
-    else:
-        print(_summary_text(r, view))
+        # stdout is one of the outputs: written, then the files renamed, or nothing at all
+        outs.print(to_json(json_ready(record)) if args.json  # null, not NaN (no peak at zero load)
+                   else _summary_text(r, view))
     return 0
 
 
-def _summary_text3d(r) -> str:
+def _inputs(args) -> dict:
+    """The files ``solve`` reads (no output may name one of them)."""
+    return {"--apparatus-zz": getattr(args, "apparatus_zz", None),
+            "--apparatus-xz": getattr(args, "apparatus_xz", None)}
+
+
+def _summary_text3d(r, sensor=None) -> str:
     s = r.summary()
     mm, kPa = 1e3, 1e-3
     extra = {"cylinder": f", length {s.get('length_m', 0) * mm:g} mm",
@@ -177,7 +195,7 @@ def _summary_text3d(r) -> str:
                            f"R_y = {s.get('radius_y_m', 0) * mm:g} mm"}.get(s["indenter"], "")
     lines = [
         f"{s['model']} model, {s['method']} method, {s['indenter']}{extra}: F = {s['force_N']:g} N, "
-        f"mu_d = {s['mu']:g}, E = {s['young_Pa'] / 1e6:g} MPa, R = {s['radius_m'] * mm:g} mm, "
+        f"{_law_text(s)}, E = {s['young_Pa'] / 1e6:g} MPa, R = {s['radius_m'] * mm:g} mm, "
         f"h = {s['thickness_m'] * mm:g} mm",
         f"  contact area             {s['contact_area_m2'] * 1e6:10.5f} mm^2 "
         f"(radius sqrt(A/pi) {s['contact_radius_m'] * mm:.5f} mm)",
@@ -195,24 +213,31 @@ def _summary_text3d(r) -> str:
         f"{s['error_estimate']:.1e}, solve {s['wall_time_s'] * 1e3:.0f} ms "
         f"(+ planning {s['plan_time_s'] * 1e3:.0f} ms)",
     ]
+    if sensor is not None:  # the sensor peaks, as in the line summary (x, y of each peak)
+        import numpy as np
+
+        x, y = r.maps()["x_m"], r.maps()["y_m"]
+        for c in ("zz", "xz"):
+            S, U = sensor[f"S_{c}_Pa"], sensor[f"U_{c}_mV"]
+            i, j = np.unravel_index(int(np.argmax(np.abs(S))), S.shape)
+            lines.append(f"  sensor peak S_{c}         {S[i, j] * kPa:10.4f} kPa at ({x[i] * mm:.4f}, "
+                         f"{y[j] * mm:.4f}) mm   (U_{c} = {U[i, j]:.4f} mV)")
     if r.scene.indenter == "cylinder":
         lines.append("  (sharp ends: the peak pressure there grows with the resolution; it is "
                      "reported, not controlled by --tol)")
     return "\n".join(lines)
 
 
-def _cmd_solve3d(args, given) -> int:
+def _cmd_solve3d(args, scene) -> int:
     import numpy as np
 
     from ..api import solve
-    from ..physics.scene import Scene3D
-    from .files import Outputs, check_outputs, check_plot_path, to_json, write_csv
+    from .files import Outputs, add_meta, check_outputs, check_plot_path, to_json, write_csv
 
     if args.method != "fft":
         raise InputError(f"--method {args.method} is for the line indenter; 3D indenters use fft")
-    scene = Scene3D(indenter=args.indenter, **given)
-    outputs = check_outputs(**{"--profiles": args.profiles, "--plot": args.plot,
-                               "--maps": args.maps})
+    outputs = check_outputs(inputs=_inputs(args), metas=("--profiles",),
+                            **{"--profiles": args.profiles, "--plot": args.plot, "--maps": args.maps})
     if args.plot is not None:
         check_plot_path(args.plot)
     r = solve(scene, model=args.model, method="fft", tol=args.tol, grid_points=args.grid_points,
@@ -235,14 +260,15 @@ def _cmd_solve3d(args, given) -> int:
                 j = int(np.argmin(np.abs(r.y)))
                 cols.update({k: sensor[k][:, j] for k in ("S_zz_Pa", "S_xz_Pa", "U_zz_mV", "U_xz_mV")})
             write_csv(outs.path(outputs["--profiles"]), cols)
+            add_meta(outs, outputs["--profiles"], {
+                "written_by": "spectral-contact solve",
+                "columns": {k: _PROFILE_NOTES.get(k, "") + " (the line y = 0)" for k in cols},
+                "result": r.summary()})
         if "--plot" in outputs:
             from .plots import plot_maps
 
             plot_maps(r, outs.path(outputs["--plot"]), sensor=sensor)
-    if args.json:
-        print(to_json(r.summary()))
-    else:
-        print(_summary_text3d(r))
+        outs.print(to_json(r.summary()) if args.json else _summary_text3d(r, sensor))
     return 0
 
 
@@ -279,9 +305,11 @@ def _cmd_study(args) -> int:
 
 
 def _study_lines() -> str:
-    """One line per study: its name and the first line of its docstring (read, not imported)."""
-    import ast
+    """One line per study: its name and the first line of its docstring (read, not imported:
+    the opening string literal only, not the whole file's syntax tree, which cost every command
+    ~0.15 s of start-up)."""
     import importlib.util
+    import re
     from pathlib import Path
 
     spec = importlib.util.find_spec("studies")
@@ -290,10 +318,13 @@ def _study_lines() -> str:
     lines = []
     for path in sorted(Path(next(iter(spec.submodule_search_locations))).glob("[a-z]*.py")):
         try:
-            doc = ast.get_docstring(ast.parse(path.read_text(encoding="utf-8"))) or ""
-        except (OSError, SyntaxError):
+            with open(path, encoding="utf-8") as fh:
+                head = fh.read(4096)
+        except (OSError, UnicodeDecodeError):
             continue
-        lines.append(f"  {path.stem:<18} {doc.strip().splitlines()[0] if doc.strip() else ''}")
+        m = re.match(r'\s*[rRuU]?("""|\'\'\')\s*(.*)', head)
+        doc = m.group(2).splitlines()[0].split(m.group(1))[0].strip() if m and m.group(2) else ""
+        lines.append(f"  {path.stem:<18} {doc}")
     return "\n".join(lines)
 
 
@@ -410,6 +441,9 @@ def _one_line_warnings(message, category, filename, lineno, file=None, line=None
     """Warnings are kept, one line each, and printed only if the command succeeds (a failing
     command prints its one error line and nothing else)."""
     text = "warning: " + " ".join(str(message).split())
+    option = getattr(message, "option", None)  # a physics.scene.UnitsWarning: the flag as typed
+    if option and text.startswith(f"warning: {option} "):
+        text = text.replace(option, "--" + option.replace("_", "-"), 1)
     if text not in _WARNINGS:
         _WARNINGS.append(text)
 
@@ -431,10 +465,16 @@ def main(argv=None) -> int:
         options = _options_of(parser, argv)
         args = parser.parse_args(argv)
         command = args.command
+        if sys.stdout is None:  # started with stdout closed (>&-): the result has nowhere to go
+            raise InputError("standard output is closed (>&-): nothing would receive the "
+                             "result; redirect it to a file or /dev/null instead")
         from .progress import show_progress
 
-        # solver steps on stderr once a command passes 2 s (studies print their own progress)
-        with show_progress(after=math.inf if args.command == "study" else 2.0):
+        # solver steps on stderr once a command passes 2 s, on a terminal only: a failing
+        # command's stderr is its one error line, however loaded the machine (studies print
+        # their own progress; calibrate its bootstrap i/n)
+        quiet = args.command in ("study", "calibrate") or not _is_terminal(sys.stderr)
+        with show_progress(after=math.inf if quiet else 2.0):
             status = args.func(args)
         for text in _WARNINGS:
             print(text, file=sys.stderr)
@@ -484,6 +524,13 @@ def main(argv=None) -> int:
         warnings.showwarning = old_show
         if threading_main:
             signal.signal(signal.SIGTERM, old_term)
+
+
+def _is_terminal(stream) -> bool:
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError, OSError):
+        return False
 
 
 def _written() -> str:

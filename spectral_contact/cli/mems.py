@@ -189,11 +189,15 @@ def _cmd_compare(args) -> int:
     tol = check_tol(args.tol)
     Scene(young=args.young, radius=args.radius, thickness=args.thickness,
           poisson=args.poisson)  # names the option as typed
-    outputs = check_outputs(**{"--plot": args.plot})
+    outputs = check_outputs(inputs={"MEASURED.csv": args.measured,
+                                    "--apparatus-zz": args.apparatus_zz,
+                                    "--apparatus-xz": args.apparatus_xz},
+                            **{"--plot": args.plot})
     plot = check_plot_path(args.plot) if args.plot is not None else None
     prof = read_measured_profile(args.measured)
     apparatus = _apparatus(args)
     Szz, Sxz = prof.stresses(args.a_zz, args.a_xz)
+    _warn_x_units(prof.x_m, args.thickness, args.measured)
     P, mu = integral_estimates(prof.x_m, Szz, Sxz)
     try:
         scene = Scene(load=P, mu=mu, young=args.young, radius=args.radius,
@@ -209,7 +213,7 @@ def _cmd_compare(args) -> int:
                          f"mu_d = {mu:.4g}: {exc}") from None
     ex, go = models["exact"], models["goodman"]
     fit, fit_note = None, "skipped (--no-fit)" if args.no_fit else "ok"
-    fits = {}
+    fits, failed = {}, {}
     if not args.no_fit:
         from ..errors import ConvergenceError
 
@@ -219,7 +223,7 @@ def _cmd_compare(args) -> int:
                 fits[name] = fit_model(prof.x_m, Szz, Sxz, scene, m["offset_m"], model=name,
                                        tol=tol, apparatus=apparatus)
             except (ConvergenceError, InputError) as exc:  # the comparison itself stands
-                fit_note = f"{name} fit failed: {exc}".splitlines()[0]
+                failed[name] = str(exc).splitlines()[0]
         for name, flag, kw in (("exact+poisson", args.fit_poisson, {"fit_poisson": True}),
                                ("exact+interface", args.fit_interface, {"fit_interface": True})):
             if not flag:
@@ -228,7 +232,20 @@ def _cmd_compare(args) -> int:
                 fits[name] = fit_model(prof.x_m, Szz, Sxz, scene, ex["offset_m"], model="exact",
                                        tol=tol, apparatus=apparatus, **kw)
             except (ConvergenceError, InputError) as exc:
-                fit_note = f"{name} fit failed: {exc}".splitlines()[0]
+                failed[name] = str(exc).splitlines()[0]
+        for name in list(fits):  # a fit that explains nothing has failed too (issue 24)
+            why = _failed_fit(fits[name])
+            if why:
+                failed[name] = why
+                del fits[name]
+        if failed:
+            fit_note = "; ".join(f"{name} fit failed: {why}" for name, why in failed.items())
+        if failed and not fits:
+            import warnings
+
+            warnings.warn(f"every direct fit failed ({fit_note}): no best model (JSON "
+                          f"\"fits_failed\"); the comparison at the integral estimates stands",
+                          UserWarning, stacklevel=2)
         fit = fits.get("exact")
     nan = float("nan")
     rec = {"load_N_per_m": P, "mu": mu, "offset_m": ex["offset_m"],
@@ -245,13 +262,20 @@ def _cmd_compare(args) -> int:
            "poisson": scene.poisson,
            "fits": {name: {k: f[k] for k in FIT_KEYS + _EXTRA_KEYS if k in f}
                     for name, f in fits.items()},
-           "best_model": min(fits, key=lambda k: fits[k]["aic"]) if fits else None}
-    if plot is not None:
-        with Outputs() as outs:
+           "best_model": min(fits, key=lambda k: fits[k]["aic"]) if fits else None,
+           "fits_failed": failed}
+    with Outputs() as outs:
+        if plot is not None:
             _plot_compare(outs.path(outputs["--plot"]), prof, Szz, Sxz, models, fits, rec,
                           (args.a_zz, args.a_xz))
+        _print_compare(outs, args, prof, P, mu, ex, go, fits, fit_note, rec)
+    return 0
+
+
+def _print_compare(outs, args, prof, P, mu, ex, go, fits, fit_note, rec):
+    """Stage compare's summary (text or JSON) on ``outs``' stdout."""
     if args.json:
-        print(to_json(rec))  # null, not NaN
+        outs.print(to_json(rec))  # null, not NaN
     else:
         mm = 1e3
         lines = [
@@ -277,8 +301,38 @@ def _cmd_compare(args) -> int:
                    if "interface_compliance_m_per_Pa" in f else ""))
         if fits:
             lines.append(f"  best model (AIC)     {rec['best_model']}")
-        print("\n".join(lines))
-    return 0
+        outs.print("\n".join(lines))
+
+
+FIT_CHI_FAILED = 0.99
+"""A direct fit whose chi is at least this in both components leaves the data unexplained (the
+model curve misses the window: chi = |S - model| / |S| = 1 when the model is ~0 there)."""
+X_SPAN_H = (0.5, 100.0)
+"""Plausible span of a measured profile, in film thicknesses (a contact of a few h plus the
+base stresses' tails of ~10 h); outside: a units warning (x_m in millimetres, say)."""
+
+
+def _failed_fit(f) -> str:
+    """Why the direct fit ``f`` (a ``fit_model`` record) failed, or "" if it did not."""
+    chi = max(f.get("chi_zz", math.nan), f.get("chi_xz", math.nan))
+    if not chi < FIT_CHI_FAILED:
+        return f"the fitted model explains nothing (chi_zz {f.get('chi_zz', math.nan):.3g}, " \
+               f"chi_xz {f.get('chi_xz', math.nan):.3g})"
+    sig = [f.get(k) for k in ("load_sigma", "mu_sigma", "offset_sigma")]
+    if any(v is None or not math.isfinite(v) for v in sig):
+        return "its uncertainties are undetermined (singular Jacobian)"
+    return ""
+
+
+def _warn_x_units(x_m, thickness, path) -> None:
+    """A units warning when the measured x span is implausible for the film (``X_SPAN_H``)."""
+    span = float(x_m[-1] - x_m[0]) / thickness
+    if not X_SPAN_H[0] <= span <= X_SPAN_H[1]:
+        import warnings
+
+        warnings.warn(f"{path}: x spans {x_m[-1] - x_m[0]:.4g} m = {span:.3g} film thicknesses "
+                      f"(--thickness {thickness:g} m), outside the plausible {X_SPAN_H[0]:g} ... "
+                      f"{X_SPAN_H[1]:g}: is x_m in metres?", UserWarning, stacklevel=2)
 
 
 def _plot_compare(path, prof, Szz, Sxz, models, fits, rec, gains=(19.00, 7.95)):
@@ -353,7 +407,8 @@ def _cmd_calibrate(args) -> int:
     from ..instruments.calibration import calibrate
     from ..instruments.measured_io import read_radial_profile
 
-    outputs = check_outputs(**{"--out": args.out, "--plot": args.plot})
+    outputs = check_outputs(inputs={"--measured": args.measured, "--computed": args.computed},
+                            metas=("--out",), **{"--out": args.out, "--plot": args.plot})
     out = outputs.get("--out")
     plot = check_plot_path(args.plot) if args.plot is not None else None
     comp = args.component
@@ -425,20 +480,25 @@ def _cmd_calibrate(args) -> int:
                 "computed": source})
         if plot is not None:
             _plot_calibration(outs.path(plot), cal, r, U)
+        _print_calibration(outs, args, cal, comp, r, out, has_band)
+    return 0
+
+
+def _print_calibration(outs, args, cal, comp, r, out, has_band):
+    """Stage calibrate's summary (text or JSON) on ``outs``' stdout."""
     rec = {"component": comp, "method": args.method, "A_mV_per_bar": cal.A_mV_per_bar,
            "A_lo_mV_per_bar": cal.A_lo if has_band else None,  # no band without the bootstrap
            "A_hi_mV_per_bar": cal.A_hi if has_band else None,
            "noise_sd_mV": cal.info["noise_sd_mV"], "points": int(r.size),
            "out": str(out) if out else None}
     if args.json:
-        print(to_json(rec))
+        outs.print(to_json(rec))
     else:
         band = (f"{cal.info['level']:.0%} noise band {cal.A_lo:.5g} .. {cal.A_hi:.5g}, bias not "
                 f"included" if has_band else "no band: --n-boot 0")
-        print(f"G_{comp} by {args.method}: A_{comp} = {cal.A_mV_per_bar:.5g} mV/bar "
-              f"({band}); G(0) = {cal.G[0]:.4g} 1/m^2; "
-              f"noise sd {cal.info['noise_sd_mV']:.3g} mV" + (f"; wrote {out}" if out else ""))
-    return 0
+        outs.print(f"G_{comp} by {args.method}: A_{comp} = {cal.A_mV_per_bar:.5g} mV/bar "
+                   f"({band}); G(0) = {cal.G[0]:.4g} 1/m^2; "
+                   f"noise sd {cal.info['noise_sd_mV']:.3g} mV" + (f"; wrote {out}" if out else ""))
 
 
 def _plot_calibration(path, cal, r, U):

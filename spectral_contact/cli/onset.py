@@ -164,7 +164,8 @@ def _cmd_onset(args) -> int:
         scene = Scene3D(indenter=indenter, **given)
     if scene.mu == 0:
         raise InputError("--mu must be != 0 for onset (the tangential load goes up to mu P)")
-    outputs = check_outputs(**{"--profiles": args.profiles, "--plot": args.plot})
+    outputs = check_outputs(metas=("--profiles",),
+                            **{"--profiles": args.profiles, "--plot": args.plot})
     if args.plot is not None:
         check_plot_path(args.plot)
 
@@ -194,8 +195,7 @@ def _cmd_onset(args) -> int:
         if "--plot" in outputs:
             fig = r.plot(sensor=view)
             fig.savefig(outs.path(outputs["--plot"]), dpi=120)
-    if args.json:
-        print(to_json(record))
-    else:
-        print(_text(r) if indenter == "line" else _text3d(r))
+        # stdout with the files, or nothing
+        outs.print(to_json(record) if args.json else
+                   (_text(r) if indenter == "line" else _text3d(r)))
     return 0

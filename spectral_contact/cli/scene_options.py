@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..physics.options import OPTIONS, check_applies
 
-__all__ = ["add_scene_options", "add_solve_options", "scene_args"]
+__all__ = ["add_scene_options", "add_solve_options", "scene_args", "scene_from_args"]
 
 
 def add_scene_options(p):
@@ -36,3 +36,13 @@ def scene_args(args) -> dict:
              if o.cli and o.scenes != "solve" and getattr(args, o.name) is not None}
     check_applies(given, given.get("indenter", "line"))
     return given
+
+
+def scene_from_args(args):
+    """The scene of the scene options (``Scene`` for the line indenter, else ``Scene3D``): the
+    options the user gave (``scene_args``), the scene's defaults for the others."""
+    from ..physics.scene import Scene, Scene3D
+
+    given = scene_args(args)
+    indenter = given.pop("indenter", "line")
+    return Scene(**given) if indenter == "line" else Scene3D(indenter=indenter, **given)

@@ -39,7 +39,8 @@ def register(subparsers) -> None:
     p.add_argument("--out", metavar="DIR", required=True, help="results directory (created)")
     eng = p.add_mutually_exclusive_group()
     eng.add_argument("--workers", type=int, default=None,
-                     help="worker processes of a local dask cluster (default: the cores)")
+                     help="worker processes of a local dask cluster (default: the cores; at most 2 "
+                          "per core)")
     eng.add_argument("--scheduler", metavar="tcp://HOST:PORT", default=None,
                      help="a running dask scheduler instead of a local cluster")
     p.add_argument("--scheduler-timeout", type=float, default=10.0, metavar="S",
@@ -50,11 +51,35 @@ def register(subparsers) -> None:
     p.set_defaults(func=_cmd_sweep)
 
 
-def _cmd_sweep(args) -> int:
-    from ..sweep import OPTIONS, STATUSES, sweep
+def _check_spec_not_an_output(spec, out) -> None:
+    """--spec must not be one of the files the sweep writes (OUT/summary.*, OUT/scenes/,
+    OUT/profiles/): it is read, they are replaced."""
+    if spec is None:
+        return
+    import os
 
-    if args.workers is not None and args.workers < 1:
-        raise InputError(f"--workers must be >= 1; got {args.workers}")
+    from .files import _identity
+
+    for name in ("summary.csv", "summary.parquet"):
+        if _identity(spec) & _identity(os.path.join(out, name)):
+            raise InputError(f"--spec {spec} is {os.path.join(out, name)}, which the sweep "
+                             f"writes: give another path")
+    real, base = os.path.realpath(spec), os.path.realpath(out)
+    for sub in ("scenes", "profiles"):
+        if os.path.commonpath([real, os.path.join(base, sub)]) == os.path.join(base, sub):
+            raise InputError(f"--spec {spec} is inside {os.path.join(out, sub)}, which the sweep "
+                             f"writes: give another path")
+
+
+def _cmd_sweep(args) -> int:
+    from ..sweep import OPTIONS, STATUSES, WORKERS_PER_CORE, max_workers, sweep
+
+    if args.workers is not None and not 1 <= args.workers <= max_workers():
+        raise InputError(f"--workers must be in [1, {max_workers()}] ({WORKERS_PER_CORE} per "
+                         f"usable core); got {args.workers}")
+    if not args.out.strip():
+        raise InputError("--out: empty folder name")
+    _check_spec_not_an_output(args.spec, args.out)
     if not args.scheduler_timeout > 0:
         raise InputError(f"--scheduler-timeout must be > 0 s; got {args.scheduler_timeout}")
     options = {k: getattr(args, k) for k in OPTIONS if getattr(args, k) is not None}

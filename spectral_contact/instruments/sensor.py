@@ -121,6 +121,19 @@ def sensor_profiles(x_m, sigma_zz_Pa, sigma_xz_Pa, A_zz_mV_per_bar: float = A_ZZ
             "U_zz_mV": s_zz * (a_zz / PA_PER_BAR), "U_xz_mV": s_xz * (a_xz / PA_PER_BAR)}
 
 
+def check_line_result(result) -> None:
+    """InputError unless ``result`` is a line result of ``solve`` (a 3D one: ``sensor_maps``)."""
+    from ..result import ContactResult
+
+    if isinstance(result, ContactResult):
+        return
+    if hasattr(result, "maps") and hasattr(result, "scene"):
+        raise InputError("the sensor view of a 3D result is sensor_maps(result) "
+                         "(spectral_contact.instruments.sensor); sensor() takes a line result")
+    raise InputError(f"sensor() takes a result of solve() (a ContactResult); got "
+                     f"{type(result).__name__}")
+
+
 def sensor_view(result, A_zz_mV_per_bar: float = A_ZZ_MV_PER_BAR,
                 A_xz_mV_per_bar: float = A_XZ_MV_PER_BAR, apparatus=None) -> dict:
     """Sensor view of a ``ContactResult`` on ``result.x`` (apex frame).
@@ -130,6 +143,7 @@ def sensor_view(result, A_zz_mV_per_bar: float = A_ZZ_MV_PER_BAR,
     Returns {"S_zz_Pa", "S_xz_Pa", "U_zz_mV", "U_xz_mV"}: S in Pa (S_zz > 0 in compression),
     U in mV.
     """
+    check_line_result(result)
     x = np.asarray(result.x_m, dtype=float)
     szz, sxz = result.base_sigma_zz_Pa, result.base_sigma_xz_Pa
     d = np.diff(x)

@@ -37,7 +37,7 @@ from .krylov import gmres
 from .operators import FourierOperator
 
 __all__ = ["ContactSolution", "solve_contact", "solve_complementarity", "compliance_operator",
-           "refine_nested"]
+           "refine_nested", "nested_guess"]
 
 
 _FILM = Film()  # the default film (frozen: shared)
@@ -58,6 +58,7 @@ _EDGE_REACH = 0.15  # nested first set: the fine nodes within this many cells be
 # solution's fitted edges.  Measured (active-set steps of the whole chain, summed over 6 scenes,
 # loads 5-380 N/m, mu -1...2.6, cold at 2^20): reach 0: 111, 0.08: 105, 0.15: 99, 0.25: 104,
 # 0.35: 116
+_EDGE_REACH_2D = 0.15  # (the same in 2D, along rows and columns: see nested_guess)
 _EXTRAP_WEIGHT = 0.7  # the cold start's shrinking steps extrapolate the edges (_shrunk_ends)
 _EXTRAP_STEPS = 3  # this many times at most (then plain steps: they cannot cycle through them)
 _SET_EDGE = 0.5  # a set's continuum edge, in cells beyond its end node.  Measured (cold, rtol
@@ -108,6 +109,7 @@ class ContactSolution:
     history: list = field(default_factory=list)
     coarse_iterations: int = 0         # active-set iterations of the nested start's coarser grids
     coarse_krylov_iterations: int = 0  # and their GMRES iterations (their FFT pairs are in fft_pairs)
+    coarse_fft_pairs: int = 0          # the part of fft_pairs spent on the coarser grids
 
 
 @lru_cache(maxsize=32)
@@ -188,7 +190,14 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         # weight of each load row: its right-hand side as large as the whole gap block's, so
         # GMRES's 2-norm stopping test controls the load as tightly as the gap
         fi = f[sel]
-        gap_norm = max(math.sqrt(float(fi @ fi)), 1e-300)  # np.linalg.norm's operations
+        gap_norm = math.sqrt(float(fi @ fi))  # np.linalg.norm's operations
+        if gap_norm < 1e-150:
+            # heights all zero on the set (one node at a smooth apex: a contact smaller than
+            # a cell): the load row weighted as the sinking it causes, ~ load / cell^(1 - 1/d)
+            # (a weight of 1e-300 let GMRES ignore the load: "residual 1.00e+00 after 1
+            # active-set and 1 GMRES iterations", issue 24)
+            gap_norm = max(float(np.abs(loads).max()) * cell ** (1.0 / ndim - 1.0)
+                           * math.sqrt(max(ni, 1)), 1e-300)
         # preconditioner: inverse symbol clipped below the lowest mode the largest contact holds
         if M == 1 and ndim == 1:  # the same floating-point operations on Python floats
             wload = np.array([gap_norm / loads[0] if loaded[0] else 1.0])
@@ -448,6 +457,67 @@ def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None,
                                  grid=grid, search_rtol=search_rtol)
 
 
+def nested_guess(coarse: ContactSolution, grid: Grid) -> np.ndarray:
+    """The first pressure on ``grid`` (twice ``coarse.grid``'s points per axis, same periods):
+    the coarse pressure interpolated (``refine_nested``), its support set to the coarse
+    contact up to its fitted edges (+ _EDGE_REACH fine cells).  1D: the runs' edges.  2D: the
+    contact boundary is a curve: along every coarse row and column its fitted edges give a
+    chord (centre c, half-width w); a fine node is inside when a row chord or a column chord,
+    interpolated to its line (c linearly, w^2 linearly: below a convex boundary's), holds it.
+    Rows resolve the boundary where it crosses them steeply, columns near the rows' extremes."""
+    p0 = refine_nested(coarse.pressure)
+    if not coarse.active.any() or grid.ndim > 2:
+        return p0
+    cg = coarse.grid
+    if grid.ndim == 1:
+        edges = fit_edges(cg.x, cg.dx, coarse.gap, coarse.pressure, coarse.active)
+        x, L, dx = grid.x, grid.length, grid.dx
+        inside = np.zeros(grid.n, dtype=bool)
+        for left, right in edges:
+            lo = left - _EDGE_REACH * dx
+            inside |= np.mod(x - lo, L) < (right - left) + 2 * _EDGE_REACH * dx
+        return np.where(inside, np.maximum(p0, 1e-12), 0.0)
+    gap = coarse.gap
+    if not np.all(np.isfinite(gap)):  # (sharp ends: +inf where no body; as measure2d)
+        big = np.max(gap[np.isfinite(gap)], initial=1.0)
+        gap = np.where(np.isfinite(gap), gap, 10.0 * abs(big) + 1.0)
+    inside = np.zeros(grid.shape, dtype=bool)
+    for axis in (0, 1):  # rows (chords along x, axis 0) then columns (along y)
+        other = 1 - axis
+        coord, across = cg.axes[axis], cg.axes[other]
+        d = cg.spacing[axis]
+        g2, p2, a2 = ((gap, coarse.pressure, coarse.active) if axis == 0 else
+                      (gap.T, coarse.pressure.T, coarse.active.T))
+        lines = np.flatnonzero(a2.any(axis=0))
+        if lines.size < 2 or lines[-1] - lines[0] + 1 != lines.size:
+            continue  # a contact across the period or in pieces: the other direction's
+        c = np.zeros(lines.size)
+        w2 = np.zeros(lines.size)
+        one = np.ones(lines.size)  # lines holding one run (a chord)
+        for i, j in enumerate(lines):
+            runs = fit_edges(coord, d, g2[:, j], p2[:, j], a2[:, j])
+            if len(runs) > 1:  # (e.g. columns through a finite cylinder's two wider ends:
+                one[i] = 0.0   # left to the rows; their span as one chord cost it 5 steps)
+                continue
+            lo, hi = runs[0]
+            c[i], w2[i] = 0.5 * (lo + hi), (0.5 * (hi - lo)) ** 2
+        fine_across = grid.axes[other]
+        t = across[lines]
+        ok = (fine_across >= t[0]) & (fine_across <= t[-1])
+        ok[ok] = np.interp(fine_across[ok], t, one) == 1.0  # between two chords
+        cf = np.interp(fine_across[ok], t, c)
+        wf = np.sqrt(np.interp(fine_across[ok], t, w2)) + _EDGE_REACH_2D * grid.spacing[axis]
+        fine = grid.axes[axis]
+        lines_in = (np.abs(fine[:, None] - cf[None, :]) <= wf[None, :])  # [along, across]
+        if axis == 0:
+            inside[:, ok] |= lines_in
+        else:
+            inside[ok, :] |= lines_in.T
+    if not inside.any():
+        return p0
+    return np.where(inside, np.maximum(p0, 1e-12), 0.0)
+
+
 def _nested_start(grid: Grid, mu: float, indenters, film: Film, floor: int, options: dict
                   ) -> ContactSolution:
     """A cold solve on a large grid: the half-resolution solution (itself nested, down to
@@ -462,20 +532,12 @@ def _nested_start(grid: Grid, mu: float, indenters, film: Film, floor: int, opti
         coarse = _nested_start(coarse_grid, mu, indenters, film, floor, options)
     else:
         coarse = solve_contact(coarse_grid, mu, indenters, film=film, **options)
-    p0 = refine_nested(coarse.pressure)
-    if grid.ndim == 1 and coarse.active.any():
-        cg = coarse.grid
-        edges = fit_edges(cg.x, cg.dx, coarse.gap, coarse.pressure, coarse.active)
-        x, L, dx = grid.x, grid.length, grid.dx
-        inside = np.zeros(grid.n, dtype=bool)
-        for left, right in edges:
-            lo = left - _EDGE_REACH * dx
-            inside |= np.mod(x - lo, L) < (right - left) + 2 * _EDGE_REACH * dx
-        p0 = np.where(inside, np.maximum(p0, 1e-12), 0.0)
+    p0 = nested_guess(coarse, grid)
     # (not the coarse indentation: GMRES from it meets rtol sooner, with 10-100x the nodal
     # error at the edge nodes; measured against rtol 1e-14 solves at 2^16-2^20)
     sol = solve_contact(grid, mu, indenters, film=film, p_init=p0, **options)
     sol.fft_pairs += coarse.fft_pairs
+    sol.coarse_fft_pairs = coarse.fft_pairs
     sol.coarse_iterations = coarse.iterations + coarse.coarse_iterations
     sol.coarse_krylov_iterations = coarse.krylov_iterations + coarse.coarse_krylov_iterations
     return sol

@@ -33,7 +33,7 @@ At k = 0: sigma_zz^(0) = sigma_zz^(h), tau^(0) = tau^(h) (the base carries the l
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -80,19 +80,56 @@ class Film:
         friction couples into the sinking even on a half-space (Dundurs).  nu = 1/2 takes the
         incompressible code path unchanged (bit-identical symbols).
 
-    The film's parameters live here (its thickness and Poisson ratio; interface laws are the
-    natural additions), so that every symbol of the package comes from one place.
+    young : float, optional
+        E [Pa], where the film is a scene's (``solve(film=Film(thickness=2e-3, young=2.2e6))``:
+        thickness in metres then); None in the core, whose stresses are in units of G.
+
+    The film's parameters live here, so that every symbol of the package comes from one place.
+
+    A film of another kind (another base, a coating, ...) is a subclass that supplies its own
+    symbols: ``transfer(K)`` (the plane-strain transfer functions at K = |k| h, in units of the
+    shear modulus G), and where they differ ``uniform_compliance`` (its sinking under a uniform
+    pressure), ``decay_rate`` (the slowest decay of its kernels: the periodic grids' margin) and
+    ``tangential(K)`` (the surface's tangential displacement, for the 3D displacements).  Extra
+    fields of the subclass are kept as they are when the solvers take the film to the core's
+    units (``core``): give them dimensionless (in h and G).  README, "Adding things", shows one.
     """
 
     thickness: float = 1.0
     poisson: float = 0.5
+    young: float | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "poisson", option("poisson").check(self.poisson))
+        object.__setattr__(self, "thickness", option("thickness").check(self.thickness))
+        if self.young is not None:
+            object.__setattr__(self, "young", option("young").check(self.young))
+
+    def core(self) -> Film:
+        """This film in the dimensionless core's units: thickness 1, stresses in G (the same
+        kind, with the same extra fields)."""
+        if self.thickness == 1.0 and self.young is None:
+            return self
+        return replace(self, thickness=1.0, young=None)
 
     @property
     def incompressible(self) -> bool:
         return self.poisson == 0.5
+
+    def transfer(self, K):
+        """(F0, F1, A, B, B', C) at K = |k| h (arrays): the surface sinking per pressure and its
+        coupling to the shear (x 2|k|/G), and the base tractions per surface traction
+        (``physics.transfer``; B' = B at nu = 1/2).  A film of another kind overrides this."""
+        if self.incompressible:
+            F0, F1, A, B, C = transfer_functions(K)
+            return F0, F1, A, B, B, C
+        return compressible_transfer_functions(K, self.poisson)
+
+    def tangential(self, K):
+        """F2 at K = |k| h: the surface's displacement along the shear, per shear x 2|k|/G."""
+        if self.incompressible:
+            return F2(K)
+        return compressible_tangential_function(K, self.poisson)
 
     @property
     def decay_rate(self) -> float:
@@ -116,11 +153,7 @@ class Film:
 
     def _F0_F1(self, kmag):
         """F0, F1 at K = |k| h (the incompressible ones at nu = 1/2, bit for bit)."""
-        K = kmag * self.thickness
-        if self.incompressible:
-            F0, F1, *_ = transfer_functions(K)
-        else:
-            F0, F1, *_ = compressible_transfer_functions(K, self.poisson)
+        F0, F1, *_ = self.transfer(kmag * self.thickness)
         return F0, F1
 
     def surface_compliance(self, direction, kmag, mu: float = 0.0, slide=(1.0, 0.0)):
@@ -132,7 +165,7 @@ class Film:
         e_n = sum(e * n for e, n in zip(slide, direction))
         safe = np.where(kmag > 0, kmag, 1.0)
         H = (F0 + 1j * mu * e_n * F1) / (2.0 * safe)
-        return np.where(kmag > 0, H, 0.0 if self.incompressible else self.uniform_compliance)
+        return np.where(kmag > 0, H, self.uniform_compliance)  # 0.0 at nu = 1/2
 
     def shear_compliance(self, direction, kmag, slide=(1.0, 0.0)):
         """The sinking per unit surface shear along e = ``slide``: i (e . n) F1 / (2|k|), 0 at
@@ -160,13 +193,8 @@ class Film:
     def base_coefficients(self, kmag):
         """(A, iB, iB', C, sech K) at |k| = kmag: what ``base_transfer`` multiplies by."""
         K = np.asarray(kmag, dtype=float) * self.thickness
-        if self.incompressible:
-            _, _, A, B, C = transfer_functions(K)
-            iB = iBp = 1j * B
-        else:  # the two couplings differ when nu < 1/2
-            _, _, A, B, Bp, C = compressible_transfer_functions(K, self.poisson)
-            iB, iBp = 1j * B, 1j * Bp
-        return A, iB, iBp, C, _sech(K)
+        _, _, A, B, Bp, C = self.transfer(K)  # the two couplings differ when nu < 1/2
+        return A, 1j * B, 1j * Bp, C, _sech(K)
 
     def base_transfer(self, direction, kmag, szz_hat, tau_hat, coefficients=None):
         """Base-traction spectra from surface-traction spectra.
@@ -196,17 +224,13 @@ class Film:
         kmag = np.asarray(kmag, dtype=float)
         h = self.thickness
         K = kmag * h
-        if self.incompressible:
-            F0, F1, *_ = transfer_functions(K)
-            F2_ = F2(K)
-        else:  # compressible (nu < 1/2): its F0, F1, F2; the anti-plane part is the same
-            F0, F1, *_ = compressible_transfer_functions(K, self.poisson)
-            F2_ = compressible_tangential_function(K, self.poisson)
+        F0, F1, *_ = self.transfer(K)
+        F2_ = self.tangential(K)  # the anti-plane part is the same for every nu
         pos = kmag > 0
         inv2k = np.where(pos, 0.5 / np.where(pos, kmag, 1.0), 0.0)
         tau_L = sum(n * t for n, t in zip(direction, tau_hat))
         delta = (F0 * p_hat + 1j * F1 * tau_L) * inv2k
-        if not self.incompressible:  # a uniform pressure sinks a compressible film
+        if self.uniform_compliance:  # a uniform pressure sinks a compressible film
             delta = delta + np.where(pos, 0.0, self.uniform_compliance) * p_hat
         # F2 / (2|k|) -> h and tanh(K)/|k| -> h as k -> 0
         cL = np.where(pos, F2_ * inv2k, h)

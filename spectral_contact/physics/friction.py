@@ -63,6 +63,11 @@ class FrictionLaw:
             object.__setattr__(self, "exponent", n)
             object.__setattr__(self, "pref", option("friction_pref").check(self.pref))
         if self.law == "linear":
+            if self.shear_strength is None and self.shear_slope is None:  # else: no friction at all
+                raise InputError(f"{named('friction_law')} linear needs its parameters: "
+                                 f"{named('shear_strength')} (tau_0) [Pa] and/or "
+                                 f"{named('shear_slope')} (alpha), same sign; {named('mu')} is "
+                                 f"not used by this law")
             tau0 = option("shear_strength").check(self.shear_strength or 0.0)
             alpha = option("shear_slope").check(self.shear_slope or 0.0)
             if tau0 * alpha < 0.0:
@@ -86,11 +91,10 @@ class FrictionLaw:
 
     def describe(self) -> dict:
         """The law's parameters for the JSON record (SI)."""
-        out = {"friction_law": self.law}
-        if self.law == "power":
-            out |= {"friction_exponent": self.exponent, "friction_pref_Pa": self.pref}
-        if self.law == "linear":
-            out |= {"shear_strength_Pa": self.shear_strength, "shear_slope": self.shear_slope}
+        out = {"friction_law": self.law}  # the options' JSON keys (physics.options)
+        own = {"power": ("exponent", "pref"), "linear": ("shear_strength", "shear_slope")}
+        for name in own.get(self.law, ()):
+            out[option(_OPTION_OF[name]).json] = getattr(self, name)
         return out
 
 

@@ -16,7 +16,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Indenter", "Cylinder", "Paraboloid", "Sphere", "FiniteCylinder", "HeightFunction"]
+from ..errors import InputError, named
+
+__all__ = ["Indenter", "Cylinder", "Paraboloid", "Sphere", "FiniteCylinder", "HeightFunction",
+           "LineHeightFunction"]
 
 
 @dataclass(frozen=True)
@@ -150,6 +153,25 @@ class FiniteCylinder(Indenter):
         return 2.0 * math.sqrt(line / (2 * math.pi * self.curvature)), self.half_length
 
 
+def user_heights(function, *xy) -> np.ndarray:
+    """A user's height function at the nodes: numbers, finite or +inf (no indenter there), of
+    the nodes' shape, else one-line InputError."""
+    try:
+        f = np.asarray(function(*xy), dtype=float)
+    except InputError:
+        raise
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{named('indenter')}: the height function must return numbers [m]; "
+                         f"{type(exc).__name__}: {str(exc)[:80]}") from None
+    if f.shape != np.broadcast(*xy).shape:
+        raise InputError(f"{named('indenter')}: the height function returned shape {f.shape} "
+                         f"for nodes of shape {np.broadcast(*xy).shape}: it must act elementwise")
+    if np.isnan(f).any() or (f == -np.inf).any() or not np.isfinite(f).any():
+        raise InputError(f"{named('indenter')}: the height function must return finite heights "
+                         f"(or +inf where there is no indenter); got NaN, -inf or no finite one")
+    return f
+
+
 @dataclass(frozen=True)
 class HeightFunction(Indenter):
     """Any rigid shape: ``function(x, y)`` gives the height f >= 0 above the apex (in the
@@ -164,7 +186,7 @@ class HeightFunction(Indenter):
 
     def height(self, grid) -> np.ndarray:
         x, y = self.offset(grid)
-        f = np.asarray(self.function(x + 0 * y, y + 0 * x), dtype=float)
+        f = user_heights(self.function, x + 0 * y, y + 0 * x)
         return f - np.min(f)
 
     def initial_pressure(self, grid) -> np.ndarray:
@@ -181,3 +203,39 @@ class HeightFunction(Indenter):
 
     def extent_bound(self) -> tuple:
         return tuple(self.half_extent)
+
+
+@dataclass(frozen=True)
+class LineHeightFunction(Indenter):
+    """Any rigid line shape (plane strain, its axis along y): ``function(x)`` gives the height
+    f above the apex (in the core's units: x in h, f in h^2/(2R)) at offsets x from the apex,
+    +inf where the indenter does not exist; ``half_extent`` [h] bounds the contact's
+    half-width.  ``load``: per unit length, as ``Cylinder``'s."""
+
+    function: object = None
+    half_extent: float = 1.0
+
+    def offset(self, grid) -> tuple:
+        return grid.periodic_offset((self.apex,) + (0.0,) * (len(grid.shape) - 1))[:1]
+
+    def height(self, grid) -> np.ndarray:
+        (x,) = self.offset(grid)
+        f = user_heights(self.function, x)
+        return f - np.min(f)
+
+    def distance(self, grid) -> np.ndarray:
+        return np.abs(self.offset(grid)[0])
+
+    def initial_pressure(self, grid) -> np.ndarray:
+        """1 on the nodes of the window |x| <= half_extent whose height is below the window's
+        median (only its support matters: it is the first active set)."""
+        f = self.height(grid)
+        (x,) = self.offset(grid)
+        sel = (np.abs(x) <= self.half_extent) & np.isfinite(f)
+        if not sel.any() or self.load <= 0:
+            return np.zeros(f.shape)
+        inside = sel & (f <= np.median(f[sel]))
+        return np.where(inside, 1.0, 0.0)
+
+    def extent_bound(self) -> float:
+        return self.half_extent

@@ -174,7 +174,7 @@ OPTIONS: tuple[Option, ...] = (
     Option("radius_y", "the paraboloid's radius along y", "m", **_POS, scenes="surface",
            indenters=("paraboloid",), sweep=True, json="radius_y_m", default_text="--radius"),
     Option("extent", "a bound of a height function's contact half-extent", "m", **_POS,
-           scenes="surface", indenters=("function",), cli=False, default_text="2 h"),
+           cli=False, default_text="2 h"),
     # --- beyond the paper's assumptions (issue 14) ---
     Option("poisson", "nu, the film's Poisson ratio", default=0.5, lo=0.0, hi=0.5,
            json="poisson", help="0.5: incompressible; < 0.5 needs --method fft"),

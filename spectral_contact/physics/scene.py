@@ -19,11 +19,11 @@ import math
 import numbers
 from dataclasses import dataclass
 
-import numpy as np
-
 from ..errors import InputError, named
 from . import options as _options
+from .film import Film
 from .friction import FrictionLaw
+from .indenters import Cylinder, LineHeightFunction, user_heights
 from .options import INDENTERS_3D, MU_MAX, TOL_MIN, default
 
 __all__ = ["Scene", "Scene3D", "INDENTERS_3D", "PAPER_SCENE", "check_finite", "check_positive",
@@ -76,6 +76,57 @@ leave floating-point range."""
 _TYPICAL = {"load": 200.0, "young": 2.2e6, "radius": 0.130, "thickness": 0.002}
 
 
+LAW_SCALE_MAX = 1e8
+"""Bound on the friction law's stress parameters (p_ref, tau_0) over the scene's stress unit
+E h/(6R): beyond it the local friction coefficient mu (p/p_ref)^-n (or tau_0 against p) is
+under- or overflowing nonsense (p_ref = 5e-324 Pa divided by zero; 1e300 Pa never converged)."""
+SHAPE_RATIO_MIN, SHAPE_RATIO_MAX = 1e-6, 1e6
+"""Bounds on a 3D indenter's shape ratios (cylinder length / h, paraboloid radii / radius): a
+subnormal length divided by zero, a subnormal radius_x never converged."""
+
+
+SOFT_CONTACT_RANGES = {"young": (1e3, 1e9, "Pa"), "thickness": (1e-6, 0.1, "m"),
+                       "radius": (1e-6, 10.0, "m"), "length": (1e-5, 1.0, "m")}
+"""Soft-contact practice (elastomer films, gels, skin): E from 1 kPa to 1 GPa, films from 1 um
+to 10 cm, indenter radii from 1 um to 10 m, cylinder lengths from 10 um to 1 m.  A value
+outside is accepted (the model is scale-free) with one warning: it is most often a units slip
+(thickness=2 meant in mm, E in MPa)."""
+
+
+class UnitsWarning(UserWarning):
+    """A value outside ``SOFT_CONTACT_RANGES``; ``option`` is the parameter's Python name (the
+    command line names it as typed)."""
+
+    def __init__(self, message, option=None):
+        super().__init__(message)
+        self.option = option
+
+
+def _warn_units(scene) -> None:
+    import warnings
+
+    for name, (lo, hi, unit) in SOFT_CONTACT_RANGES.items():
+        v = getattr(scene, name, None)
+        if v is not None and not lo <= v <= hi:
+            warnings.warn(UnitsWarning(f"{name} = {v:g} {unit} is outside soft-contact practice "
+                                       f"[{lo:g}, {hi:g}] {unit}: is it in SI units?", name),
+                          stacklevel=4)
+
+
+def _check_law_scales(scene) -> None:
+    """The friction law's stresses within LAW_SCALE_MAX of the stress unit (tau_0 may be 0)."""
+    law, unit = scene.friction, scene.stress_unit
+    for value, name, opt in ((law.pref, "friction pref (p_ref)", "--friction-pref"),
+                             (law.shear_strength, "shear strength (tau_0)", "--shear-strength")):
+        if value is None or (value == 0.0 and opt == "--shear-strength"):
+            continue
+        ratio = abs(value) / unit
+        if not 1.0 / LAW_SCALE_MAX <= ratio <= LAW_SCALE_MAX:
+            raise InputError(f"{name} = {value:g} Pa is out of range: |value| / (E h/(6R) = "
+                             f"{unit:.3g} Pa) = {ratio:.3g} must be in [{1 / LAW_SCALE_MAX:g}, "
+                             f"{LAW_SCALE_MAX:g}] ({opt})")
+
+
 @dataclass(frozen=True)
 class Scene:
     """A rigid cylinder sliding on an elastic film (incompressible by default) bonded to a rigid
@@ -115,6 +166,17 @@ class Scene:
     interface_pressure, interface_length : float, optional
         p0 [Pa] > 0 and lambda [m] > 0 of the exponential law (required by it, refused
         otherwise).  The exponential law has no sharp contact edges.
+    height : callable, optional
+        Any line indenter instead of the cylinder: height(x_m) -> f [m] above its lowest point
+        (x an array of positions from the apex [m]; +inf where there is no indenter), loaded
+        by ``load`` per unit length; ``radius`` is then only the unit of heights (h^2/2R).
+        The FFT method only.
+    extent : float, optional
+        With ``height``: a bound of the contact's half-width [m] (default 2 h).
+    film : physics.film.Film, optional
+        The film's kind: a ``Film`` or a subclass supplying its own symbols (``Film.transfer``);
+        its thickness, young and poisson are the scene's (given in one place: the film, or
+        the scene's fields).  Default: the elastic film of ``poisson``.
 
     The derived units (h^2/2R, E h/6R) must be finite and > 0, and the Hertz half-width
     sqrt(P / 2 pi) at most A_OVER_H_MAX film thicknesses; else InputError names the parameter
@@ -136,18 +198,34 @@ class Scene:
     interface_law: str = default("interface_law")
     interface_pressure: float | None = None
     interface_length: float | None = None
+    height: object = None
+    extent: float | None = None
+    film: object = None
 
     def __post_init__(self):
+        _take_film(self)
         for name, value in _options.validate(self, "line").items():  # the table's bounds
             object.__setattr__(self, name, value)
+        if self.height is not None and not callable(self.height):
+            raise InputError(f"{named('height')} must be a callable height(x_m) [m]; got "
+                             f"{type(self.height).__name__}")
+        if self.height is None and self.extent is not None:
+            raise InputError(f"{named('extent')} bounds a height function's contact: give "
+                             f"{named('height')} (or an indenter function) with it")
+        if self.height is not None and self.extent is None:
+            object.__setattr__(self, "extent", 2.0 * self.thickness)
         _check_law_and_film(self)
         self._check_scales()
         self._check_interface_law()
+        _check_law_scales(self)
+        _warn_units(self)
 
     def extreme_parameter(self, names=("load", "young", "thickness", "radius")) -> str:
         """"name = value unit" of the parameter among ``names`` farthest (in decades) from the
         paper's value: the one to name when a derived quantity is out of range."""
-        far = max(names, key=lambda n: abs(math.log10(getattr(self, n) / _TYPICAL[n]))
+        # log10 of each factor, not of the ratio: a subnormal value over the typical one
+        # underflows to 0 (log10(4.9e-324 / 200) is a domain error)
+        far = max(names, key=lambda n: abs(math.log10(getattr(self, n)) - math.log10(_TYPICAL[n]))
                   if getattr(self, n) > 0 else math.inf)
         return f"{named(far)} = {getattr(self, far):g} {_options.option(far).unit}"
 
@@ -248,11 +326,60 @@ class Scene:
         """Dimensionless lineic load P = P_L 2R / (G h^2) (= P_L 6R / (E h^2) at nu = 1/2)."""
         return self.load / (self.stress_unit * self.length_unit)
 
+    def indenter_object(self):
+        """The indenter in the core's units (``physics.indenters``), apex at the origin: the
+        cylinder, or the user's height function."""
+        if self.height is None:
+            return Cylinder(0.0, self.P)
+        h, unit, height = self.thickness, self.displacement_unit, self.height
+
+        def f(x):
+            return user_heights(height, x * h) / unit
+
+        return LineHeightFunction(0.0, self.P, f, self.extent / h)
+
+    def core_film(self) -> Film:
+        """The film in the core's units (thickness 1, stresses in G): the scene's kind."""
+        return Film(poisson=self.poisson) if self.film is None else self.film.core()
+
+    def custom(self) -> str | None:
+        """What of this scene only the FFT method solves (a user's indenter or film kind), in
+        words; None for the built-in ones."""
+        return _custom(self)
+
     def with_(self, **changes) -> Scene:
         """A copy with some parameters changed."""
         from dataclasses import replace
 
         return replace(self, **changes)
+
+
+def _take_film(scene) -> None:
+    """A scene given ``film=``: its thickness, young and poisson are the film's (the scene's own
+    fields left at their defaults, or equal)."""
+    film = scene.film
+    if film is None:
+        return
+    if not isinstance(film, Film):
+        raise InputError(f"{named('film')} must be a physics.film.Film (or a subclass); got "
+                         f"{type(film).__name__}")
+    if film.young is None:
+        raise InputError(f"{named('film')}: a scene's film needs its Young modulus, "
+                         f"Film(thickness=h [m], young=E [Pa], poisson=nu)")
+    for name in ("thickness", "young", "poisson"):
+        mine, its = getattr(scene, name), getattr(film, name)
+        if mine != its and mine != default(name):
+            raise InputError(f"{named(name)} = {mine:g} and {named('film')}.{name} = {its:g}: "
+                             f"give the film's {name} once, in the film")
+        object.__setattr__(scene, name, its)
+
+
+def _custom(scene) -> str | None:
+    if scene.film is not None and type(scene.film) is not Film:
+        return f"a user-defined film ({type(scene.film).__name__})"
+    if isinstance(scene, Scene) and scene.height is not None:
+        return "a user-defined line indenter"
+    return None
 
 
 def _check_law_and_film(scene) -> None:
@@ -314,6 +441,8 @@ class Scene3D:
     friction_law, friction_exponent, friction_pref, shear_strength, shear_slope,
     interface_compliance :
         As ``Scene`` (issue 14): the friction law q(p) along x, a linear interface compliance.
+    film : physics.film.Film, optional
+        The film's kind, as ``Scene.film``.
 
     Dimensionless core: as ``Scene``, and the force P = F 6R / (E h^3) (stresses integrate
     over an area in h^2).
@@ -337,8 +466,10 @@ class Scene3D:
     shear_strength: float | None = None
     shear_slope: float | None = None
     interface_compliance: float = default("interface_compliance")
+    film: object = None
 
     def __post_init__(self):
+        _take_film(self)
         if self.indenter not in INDENTERS_3D:
             raise InputError(f"{named('indenter')} must be one of {', '.join(INDENTERS_3D)} (or "
                              f"line in 2D); got {self.indenter!r}")
@@ -372,6 +503,17 @@ class Scene3D:
                     f"radius would be {s:.3g} film thicknesses; the 3D solver takes "
                     f"{A_OVER_H_MIN_3D:g} ... {A_OVER_H_MAX_3D:g} (smaller: use model hertz)")
 
+        _check_law_scales(self)
+        _warn_units(self)
+        for name, ratio, what in (
+                ("length", self.length / self.thickness, "length / thickness"),
+                ("radius_x", self.radius_x / self.radius, "radius_x / radius"),
+                ("radius_y", self.radius_y / self.radius, "radius_y / radius")):
+            if not SHAPE_RATIO_MIN <= ratio <= SHAPE_RATIO_MAX:
+                raise InputError(f"{name} = {getattr(self, name):g} m is out of range: {what} = "
+                                 f"{ratio:.3g} must be in [{SHAPE_RATIO_MIN:g}, "
+                                 f"{SHAPE_RATIO_MAX:g}]")
+
     length_unit = Scene.length_unit
     displacement_unit = Scene.displacement_unit
     stress_unit = Scene.stress_unit
@@ -379,6 +521,8 @@ class Scene3D:
     friction = Scene.friction
     interface = Scene.interface
     interface_law = "linear"  # not a field: the exponential law is for the line indenter only
+    core_film = Scene.core_film
+    custom = Scene.custom
 
     @property
     def P(self) -> float:
@@ -387,7 +531,7 @@ class Scene3D:
 
     def indenter_object(self):
         """The indenter in the core's units (``physics.indenters``), apex at the origin."""
-        from .indenters import FiniteCylinder, HeightFunction, Paraboloid, Sphere
+        from .indenters import FiniteCylinder, HeightFunction, Paraboloid, Sphere, user_heights
 
         h, R = self.thickness, self.radius
         if self.indenter == "sphere":
@@ -399,7 +543,7 @@ class Scene3D:
         unit = self.displacement_unit
 
         def f(x, y):
-            return np.asarray(self.height(x * h, y * h), dtype=float) / unit
+            return user_heights(self.height, x * h, y * h) / unit
 
         return HeightFunction(0.0, self.P, f, (self.extent / h, self.extent / h))
 

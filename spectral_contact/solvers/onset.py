@@ -82,6 +82,9 @@ def check_onset_scene(scene) -> Scene:
     if not isinstance(scene, Scene):
         raise InputError("onset: spheres and other 3D indenters are not implemented yet "
                          "(--indenter line only)")
+    if scene.custom():  # its solver builds the cylinder and the film itself
+        raise InputError(f"onset: {scene.custom()} is not implemented yet (the built-in "
+                         f"cylinder and film only)")
     if scene.friction_law != "amontons":
         raise InputError(f"--friction-law {scene.friction_law}: onset takes Amontons friction "
                          f"only (Coulomb's |q| <= mu p)")

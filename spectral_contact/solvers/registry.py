@@ -33,6 +33,11 @@ def solve_scene(scene: Scene, model: str, method: str, tol: float, grid_points=N
     """Solve ``scene`` (SI) with ``model`` by ``method``; ``domain_length`` in h."""
     if not isinstance(model, str) or model not in MODELS:
         raise InputError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
+    custom = scene.custom()  # a user's indenter or film kind: the FFT method's exact/goodman
+    if custom and (model == "hertz" or method != "fft"):
+        which = "model hertz" if model == "hertz" else f"method {method}"
+        raise InputError(f"{which} solves the built-in cylinder, sphere and film only; {custom} "
+                         f"needs method fft and model exact or goodman")
     if isinstance(scene, Scene3D):
         if method != "fft":
             raise InputError(f"method {method!r} is for a line indenter (plane strain); 3D "
@@ -64,9 +69,9 @@ def solve_scene(scene: Scene, model: str, method: str, tol: float, grid_points=N
     if model != "auto":
         return solver.solve(scene, model)
     s = hertz_half_width(scene.P)
-    if scene.poisson != 0.5 or not scene.friction.is_amontons or soft:
+    if scene.poisson != 0.5 or not scene.friction.is_amontons or soft or custom:
         # the bounds were fitted on incompressible films with Amontons friction only
-        why = (f"poisson {scene.poisson:g} < 0.5" if scene.poisson != 0.5 else
+        why = (custom if custom else f"poisson {scene.poisson:g} < 0.5" if scene.poisson != 0.5 else
                f"friction law {scene.friction_law}" if not scene.friction.is_amontons else
                "a compliant interface")
         r = solver.solve(scene, "exact")
