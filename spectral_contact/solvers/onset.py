@@ -14,8 +14,8 @@ half-space this changes nothing (normal and tangential decouple); on the bonded 
 moves the surface tangentially (the F1 coupling), so the loading leaves a self-equilibrated
 shear (odd in x, Int q = 0) in the contact: measured up to 0.17 |mu| p_max on the paper's
 scene with 10 loading steps (a saw-tooth, one tooth per loading step near the edges, whose
-peak falls slowly with the step: 0.19 / 0.14 / 0.13 for 5 / 20 / 40 steps), 2.6 % of p_max at
-a/h = 0.05 (studies/README.md, onset).  ``loading="frictionless"`` applies P without friction
+peak falls slowly with the step: 0.19 / 0.14 / 0.13 for 5 / 20 / 40 steps; studies/README.md,
+onset), and 2.6 % of p_max at a/h = 0.05, mu = 0.5.  ``loading="frictionless"`` applies P without friction
 (q = 0 after the loading: a lubricated approach), the classical Cattaneo-Mindlin start.
 
 Signs (the package's): mu > 0 pulls the indenter toward +x; the tangential load Q and the
