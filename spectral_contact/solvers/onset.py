@@ -8,8 +8,9 @@ incremental: each step starts from the previous one's state (Coulomb's law in in
 sliding: the steady state that ``solve`` computes (q = mu p everywhere).
 
 Loading.  The normal load is applied with friction acting (``loading="frictional"``, the
-default, as in reality): in ``loading_steps`` equal steps from P/loading_steps to P, each
-node sticking where it came into contact unless |q| would exceed |mu| p.  On an incompressible
+default, as in reality): in ``loading_steps`` equal steps from P/loading_steps to P, with the
+incremental Coulomb law of every step (a node coming into contact slips along its motion
+relative to the indenter, and sticks from the step where that slip stops).  On an incompressible
 half-space this changes nothing (normal and tangential decouple); on the bonded film a pressure
 moves the surface tangentially (the F1 coupling), so the loading leaves a self-equilibrated
 shear (odd in x, Int q = 0) in the contact: measured up to 0.17 |mu| p_max on the paper's
