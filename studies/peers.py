@@ -689,13 +689,16 @@ def tamaas_surface_runner(grid: Grid, P: float, symbol: np.ndarray | None = None
         model = tm.ModelFactory.createModel(tm.model_type.basic_2d, list(lengths), list(shape))
         model.E, model.nu = 3.0, 0.5
         solver = tm.PolonskyKeerRey(model, heights, tol)
-        if symbol is not None:
-            model.operators["spectral_contact_symbol"] = SymbolOperator(model)
+        op = None
+        if symbol is not None:  # (kept referenced: tamaas holds only its C++ part)
+            op = SymbolOperator(model)
+            model.operators["spectral_contact_symbol"] = op
             solver.setIntegralOperator("spectral_contact_symbol")
         solver.max_iter = 100000
         t = time.perf_counter()
         err = solver.solve(P / (lengths[0] * lengths[1]))
         dt = time.perf_counter() - t
+        del op
         return {"p": np.asarray(model.traction, dtype=float).reshape(shape), "t": dt,
                 "its": "n/a", "cost": "n/a", "note": f"own error {float(err):.1e}"}
     return run
