@@ -47,7 +47,7 @@ from ..numerics.open_domain import box_of, open_compliance_operator, open_grid
 from ..physics.film import Film
 from ..physics.friction import ShearLaw
 from ..physics.scene import Scene3D, check_positive
-from ..physics.transfer import F2, compressible_tangential_function, tanh_over
+from ..physics.transfer import F2, compressible_tangential_function, tanh_over, transfer_functions
 from ..result import ContactResult3D
 from .base import check_grid_points
 
@@ -336,9 +336,15 @@ def _multipliers(film: Film, grid, mu):
     if out is not None:
         return out
     K = grid.kmag
-    A, iB, iBp, C, T = film.base_coefficients(K)
-    F0, F1 = film._F0_F1(K)
     Kh = K * film.thickness
+    if film.incompressible:  # one evaluation of the five transfer functions
+        F0, F1, A, B, C = transfer_functions(Kh)
+        iB = iBp = 1j * B
+        e = np.exp(-np.abs(Kh))
+        T = 2.0 * e / (1.0 + e * e)  # sech K (Film's)
+    else:
+        A, iB, iBp, C, T = film.base_coefficients(K)
+        F0, F1 = film._F0_F1(K)
     F2_ = F2(Kh) if film.incompressible else compressible_tangential_function(Kh, film.poisson)
     pos = K > 0
     inv2k = np.where(pos, 0.5 / np.where(pos, K, 1.0), 0.0)
