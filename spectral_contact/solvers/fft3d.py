@@ -557,6 +557,9 @@ def _solve_open(scene, model, tol, film, ind, mu, c, accept, margin, progress, t
         "extent_note": "contact x and y extents are envelopes of edges fitted along grid lines "
                        "(a few hundredths of a cell); not controlled by tol: their level "
                        "difference is extent_error_estimate",
+        "final_level_active_set_iterations": sol.iterations,
+        "final_level_krylov_iterations": sol.krylov_iterations,
+        "final_level_fft_pairs": sol.fft_pairs - sol.coarse_fft_pairs,
         "open_box": True,
         "open_box_note": "a contact much smaller than h: solved on an open (non-periodic) box "
                          f"of {box[0]:.4g} x {box[1]:.4g} h around it (the film's kernel in real "
