@@ -514,7 +514,7 @@ def _solve_open(scene, model, tol, film, ind, mu, c, accept, margin, progress, t
         if progress:
             progress(f"open box level {len(history) + 1}: {shape[0]} x {shape[1]} box, "
                      f"{time.perf_counter() - t0:.1f} s")
-        p_init = refine_nested(prev.pressure) if prev is not None else None
+        p_init = nested_guess(prev, g) if prev is not None else None
         cur = count(_open_contact(g, ind, mu, film, c, accept, p_init))
         if _touches_box(cur):
             raise ConvergenceError(f"the open box ({box[0]:.3g} x {box[1]:.3g} h) does not hold "
