@@ -38,7 +38,7 @@ import time
 import numpy as np
 
 from ..errors import ConvergenceError, InputError
-from ..numerics.contact import nested_guess, refine_nested, solve_complementarity, solve_contact
+from ..numerics.contact import nested_guess, solve_complementarity, solve_contact
 from ..numerics.fft import get_rfft, planning_time
 from ..numerics.friction import solve_contact_law
 from ..numerics.grid import Grid, pow2_at_least
