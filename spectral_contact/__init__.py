@@ -17,27 +17,30 @@ from .physics.film import Film
 from .physics.friction import FrictionLaw
 from .physics.interface import Interface
 from .physics.scene import PAPER_SCENE, Scene, Scene3D
+from .physics.shapes import Shape
 from .result import ContactResult, ContactResult3D
 from .solvers.onset import OnsetResult, onset  # noqa: F401 (issue 22: the onset of sliding)
 
 __all__ = ["solve", "Scene", "Scene3D", "PAPER_SCENE", "ContactResult", "ContactResult3D",
-           "Film", "Interface", "FrictionLaw", "InputError", "ConvergenceError",
-           "SpectralContactError", "METHODS", "MODELS", "sensor", "SensorView", "sweep",
+           "Film", "Shape", "Interface", "FrictionLaw", "InputError", "ConvergenceError",
+           "SpectralContactError", "METHODS", "MODELS", "sensor", "invert", "SensorView", "sweep",
            "__version__"]
-
-_LAZY = {"sensor": "spectral_contact.instruments.mems_view",
-         "SensorView": "spectral_contact.instruments.mems_view"}
 
 
 def __getattr__(name):  # the sensor view needs scipy.special: imported on first use only
-    if name in _LAZY:
-        import importlib
+    if name in ("sensor", "SensorView"):
+        from .instruments import mems_view
 
-        value = getattr(importlib.import_module(_LAZY[name]), name)
+        value = getattr(mems_view, name)
         globals()[name] = value
         return value
-    if name == "sweep":  # the module spectral_contact.sweep, callable as the function sweep(...)
-        import importlib
+    if name == "invert":  # issue 21: the inverse, from base stresses to tractions
+        from .instruments.inverse import invert
 
-        return importlib.import_module(".sweep", __name__)
+        globals()[name] = invert
+        return invert
+    if name == "sweep":  # the module spectral_contact.sweep, callable as the function sweep(...)
+        import spectral_contact.sweep as module  # (the import system sets the attribute)
+
+        return module
     raise AttributeError(f"module 'spectral_contact' has no attribute {name!r}")

@@ -20,6 +20,7 @@ from .physics.film import Film
 from .physics.interface import Interface
 from .physics.options import INDENTERS, INDENTERS_3D, OPTIONS, check_applies
 from .physics.scene import Scene, Scene3D, check_positive, check_tol
+from .physics.shapes import Shape
 from .result import ContactResult, ContactResult3D
 from .solvers.fft3d import default_tol
 from .solvers.registry import METHODS, MODELS, solve_scene
@@ -55,7 +56,7 @@ def solve(scene: Scene | Scene3D | None = None, *, film: Film | None = None, ind
         The film: ``Film(thickness=h [m], young=E [Pa], poisson=nu)``, or a subclass with its own
         symbols (README, "Adding things").  Default: the paper's film (``thickness``,
         ``young``, ``poisson`` by name).
-    indenter : str or callable, optional
+    indenter : Shape, str or callable, optional
         "line" (default: the plane-strain cylinder of radius ``radius``, loaded by ``load``
         [N/m]), "sphere", "cylinder" (finite, ``length`` [m]), "paraboloid" (``radius_x``,
         ``radius_y`` [m]), pressed with ``force`` [N]; or any shape, a height function [m] of
@@ -63,6 +64,8 @@ def solve(scene: Scene | Scene3D | None = None, *, film: Film | None = None, ind
         height(x) a line indenter loaded per unit length (``load``), of two height(x, y) a
         surface indenter loaded by ``force``; ``extent`` [m] bounds the contact's half-extent
         (default 2 h).  A user's shape needs the FFT method and model exact or goodman.
+        ``Shape.sphere(radius=...)``, ``Shape.cylinder(radius, length)``, ... hold the kind
+        and its dimensions in one object.
     interface : physics.interface.Interface, optional
         Friction and closure: ``Interface(mu=..., friction=FrictionLaw(...), compliance=...)``.
         Default: Amontons friction of ``mu``, rigid (the shorthands name the scene's fields:
@@ -139,6 +142,14 @@ def make_scene(indenter="line", *, film: Film | None = None, interface: Interfac
     function of one argument), ``Scene3D`` otherwise (a height function of two).  ``film`` and
     ``interface`` set their fields of the scene; naming one of those fields as well is refused
     (given twice)."""
+    if isinstance(indenter, Shape):  # its fields, each given once
+        fields = indenter.scene_fields()
+        indenter = fields.pop("indenter")
+        twice = sorted(set(fields) & set(params))
+        if twice:
+            raise InputError(f"{named(twice[0])} and {named('indenter')} given both: give it "
+                             f"once (in the Shape, or by name)")
+        params = {**params, **fields}
     if callable(indenter):
         n = _arity(indenter)
         params = {"height": indenter, **params}

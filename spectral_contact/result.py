@@ -280,13 +280,24 @@ class ContactResult:
         return _plot(self, ax, sensor)
 
 
+TAIL_FRACTION = 0.01
+"""The plots' x range holds the base stresses down to this fraction of their peak (issue 24:
+contact +- 2 h cut S_xz at 14 kPa, a quarter of its peak)."""
+
+
 def _xrange_mm(result, margin_h: float = 2.0):
-    """Plot range [mm]: the contact plus ``margin_h`` film thicknesses on each side."""
+    """Plot range [mm]: the contact plus ``margin_h`` film thicknesses on each side, widened
+    to where both base stresses have fallen below TAIL_FRACTION of their peak."""
     L, mm = result.scene.length_unit, 1e3
     x = result.x_m * mm
     iv = result.contact_intervals
     lo, hi = (iv[0][0], iv[-1][1]) if iv else (0.0, 0.0)
     lo, hi = (lo - margin_h) * L * mm, (hi + margin_h) * L * mm
+    base = np.maximum(np.abs(np.asarray(result.base_sigma_zz_Pa)),
+                      np.abs(np.asarray(result.base_sigma_xz_Pa)))
+    if base.size == x.size and base.size and np.max(base) > 0:
+        big = x[base >= TAIL_FRACTION * np.max(base)]
+        lo, hi = min(lo, float(big.min())), max(hi, float(big.max()))
     return max(lo, x.min()), min(hi, x.max())
 
 
@@ -324,27 +335,23 @@ def _plot(result, ax=None, sensor=None):
     mark_contact(a0, label=True)
     a0.plot(x[sel], result.pressure_Pa[sel] * kPa, color="C0", label="pressure p = -sigma_zz(x, h)")
     a0.set_ylabel("pressure p [kPa]", color="C0")
+    if np.any(result.surface_shear_Pa[sel] != 0.0):
+        # one axis, both in kPa (issue 24: a right axis scaled by mu_d drew the Amontons shear
+        # on top of the pressure, adding nothing)
+        a0.plot(x[sel], result.surface_shear_Pa[sel] * kPa, "--", color="C3",
+                label=("surface shear sigma_xz(x, h)" if result.shear is not None
+                       else f"surface shear sigma_xz(x, h) = {s.mu:g} p"))
+        a0.set_ylabel("surface stress [kPa]", color="black")
     handles, labels = a0.get_legend_handles_labels()
     leg_ax = a0
-    if s.mu != 0.0:
-        tw = a0.twinx()
-        tw.plot(x[sel], result.surface_shear_Pa[sel] * kPa, "--", color="C3",
-                label=("surface shear sigma_xz(x, h) (right axis)" if result.shear is not None
-                       else f"surface shear sigma_xz(x, h) = {s.mu:g} p (right axis)"))
-        tw.set_ylabel("surface shear [kPa]", color="C3")
-        lo_p, hi_p = a0.get_ylim()
-        # the right axis is the left one times mu_d: the curves coincide (mirror for mu_d < 0)
-        tw.set_ylim(lo_p * s.mu, hi_p * s.mu) if s.mu > 0 else tw.set_ylim(hi_p * s.mu, lo_p * s.mu)
-        h2, l2 = tw.get_legend_handles_labels()
-        handles, labels = handles + h2, labels + l2
-        leg_ax = tw
     leg_ax.legend(handles, labels, fontsize=7, loc="lower left", bbox_to_anchor=(0.0, 1.0),
                   ncols=2, frameon=False, borderaxespad=0.2)
     split = f"; contact in {len(intervals)} intervals" if len(intervals) > 1 else ""
     if ax is None:  # a figure of our own: the scene as its title
         fig.suptitle(f"{result.model} model ({result.method}): P_L = {s.load:g} N/m, mu_d = {s.mu:g}, "
                      f"E = {s.young / 1e6:g} MPa, R = {s.radius * mm:g} mm, h = {s.thickness * mm:g} mm"
-                     f"{split}", fontsize=8)
+                     f"{split}" + ("" if s.friction_law == "amontons" else
+                                   f"; {s.friction_law} friction law"), fontsize=10)
     if len(axes) > 1:
         a1 = axes[1]
         mark_contact(a1)
@@ -581,33 +588,65 @@ def _plot_maps(result, sensor, window):
         panels += [("S_zz_Pa", "MEMS S_zz [kPa] (+ compression)"), ("S_xz_Pa", "MEMS S_xz [kPa]"),
                    ("S_yz_Pa", "MEMS S_yz [kPa]")]
         fields.update({k: sensor[k] for k in ("S_zz_Pa", "S_xz_Pa", "S_yz_Pa")})
-    ncol = 4 if not sensor else 4
-    nrow = int(np.ceil(len(panels) / ncol))
-    fig = Figure(figsize=(3.6 * ncol, 3.3 * nrow))
+    ncol = 3 if not sensor else 4
+    nrow = int(np.ceil((len(panels) + 1) / ncol))  # + the y = 0 line
+    fig = Figure(figsize=(3.8 * ncol, 3.5 * nrow))
     axes = fig.subplots(nrow, ncol, squeeze=False)
     X, Y = np.meshgrid(x[sx], y[sy], indexing="ij")
     contact = result.pressure[np.ix_(sx, sy)] > 0
+    clipped = []
     for ax, (key, title) in zip(axes.ravel(), panels):
         f = fields[key][np.ix_(sx, sy)] / 1e3
-        lim = max(np.max(np.abs(f)), 1e-30)
+        top = max(np.max(np.abs(f)), 1e-30)
+        # the colour scale stops at a percentile of |value| (issue 24: the finite cylinder's
+        # singular ends took the whole scale); the clipped maximum is said in the title
+        lim = max(float(np.percentile(np.abs(f), MAP_CLIP_PERCENTILE)), 1e-30)
+        lim = top if top <= 1.05 * lim else lim
+        if lim < top:
+            clipped.append(f"{title.split(' [')[0]} max {top:.3g} kPa")
         signed = key != "pressure_Pa"
-        if key.startswith("S_"):  # the paper's measured field: iso-lines
-            cs = ax.contour(X, Y, f, levels=12, cmap="RdBu_r" if signed else "viridis",
+        cmap = "RdBu_r" if signed else "viridis"
+        if key.startswith("S_"):  # the paper's measured field: iso-lines, with a colour bar
+            cs = ax.contour(X, Y, np.clip(f, -lim, lim), levels=8, cmap=cmap,
                             vmin=-lim if signed else None, vmax=lim if signed else None)
-            ax.clabel(cs, fontsize=6, fmt="%.3g")
+            ax.clabel(cs, fontsize=8, fmt="%.2g")
+            fig.colorbar(cs, ax=ax, label="kPa", shrink=0.85)
         else:
-            im = ax.pcolormesh(X, Y, f, shading="auto", cmap="RdBu_r" if signed else "viridis",
+            im = ax.pcolormesh(X, Y, f, shading="auto", cmap=cmap,
                                vmin=-lim if signed else 0.0, vmax=lim)
-            fig.colorbar(im, ax=ax, label="kPa", shrink=0.85)
+            fig.colorbar(im, ax=ax, label="kPa", shrink=0.85,
+                         extend=("both" if signed else "max") if lim < top else "neither")
         ax.contour(X, Y, contact.astype(float), levels=[0.5], colors="k", linewidths=0.8)
-        ax.set_title(title, fontsize=9)
+        ax.set_title(title, fontsize=10)
         ax.set_xlabel("x [mm] (sliding toward +x)")
         ax.set_ylabel("y [mm]")
         ax.set_aspect("equal")
-    for ax in axes.ravel()[len(panels):]:
+    # the line the sensor measures: y = 0 (issue 24)
+    ax = axes.ravel()[len(panels)]
+    j = int(np.argmin(np.abs(y)))
+    for key, label, style in (("pressure_Pa", "pressure p", "k-"),
+                              ("base_sigma_zz_Pa", "base sigma_zz", "C0-"),
+                              ("base_sigma_xz_Pa", "base sigma_xz", "C3-"),
+                              ("S_zz_Pa", "MEMS S_zz", "C0--"), ("S_xz_Pa", "MEMS S_xz", "C3--")):
+        if key in fields:
+            ax.plot(x[sx], fields[key][sx, j] / 1e3, style, lw=1.2, label=label)
+    ax.axhline(0.0, color="0.6", lw=0.5)
+    ax.set_title(f"the line y = {y[j]:.3g} mm", fontsize=10)
+    ax.set_xlabel("x [mm] (sliding toward +x)")
+    ax.set_ylabel("stress [kPa]")
+    ax.legend(fontsize=7)
+    for ax in axes.ravel()[len(panels) + 1:]:
         ax.set_visible(False)
+    note = (f"; colour scales clipped at the {MAP_CLIP_PERCENTILE:g}th percentile of |value| "
+            f"({', '.join(clipped)})" if clipped else "")
     fig.suptitle(f"{result.model} model, {s.indenter}: F = {s.force:g} N, mu_d = {s.mu:g}, "
                  f"E = {s.young / 1e6:g} MPa, R = {s.radius * 1e3:g} mm, "
-                 f"h = {s.thickness * 1e3:g} mm (black: contact outline)", fontsize=9)
+                 f"h = {s.thickness * 1e3:g} mm (black: contact outline){note}", fontsize=10,
+                 wrap=True)
     fig.tight_layout()
     return fig
+
+
+MAP_CLIP_PERCENTILE = 99.5
+"""The maps' colour scales end at this percentile of |value| in the window when the maximum is
+more than 5 % above it (singular edges: the finite cylinder's ends); the title says so."""

@@ -47,7 +47,8 @@ rerun retries them.  At the end: ``out/summary.csv`` (one header row, no quotes:
 become ';', lists JSON with ';' for ','), ``out/summary.parquet`` if pyarrow is installed, and
 with ``profiles=True`` the profiles of each solved scene in ``out/profiles/<key>.csv``
 (``result.PROFILE_COLUMNS``; 3D: the y = 0 line) and, for 3D scenes, their maps in
-``out/profiles/<key>.npz`` (``result.MAP_KEYS``).
+``out/profiles/<key>.npz`` (``result.MAP_KEYS``); ``out/profiles/index.csv`` says which file
+holds which scene (file names, the options that vary, the status).
 
 Needs the optional extra ``pip install 'spectral_contact[sweep]'`` (pandas; dask.distributed for
 the local and external engines).
@@ -944,6 +945,8 @@ def sweep(spec=None, *, out=None, engine: str = "local", workers: int | None = N
     df = pd.DataFrame([rows[k] for k in dict.fromkeys(keys)], columns=table_columns())
     if out is not None:
         _write_tables(df, store.out)
+        if profiles:
+            _write_profile_index(df, store.prof)
     if info is not None:
         counts = df["status"].value_counts()
         info.update({"scenes": total, "reused": reused, "solved": len(todo), "engine": name,
@@ -1037,6 +1040,26 @@ def _plain(v):
     if isinstance(v, str):
         return v.replace(",", ";")
     return v
+
+
+def _write_profile_index(df, folder: Path) -> None:
+    """``profiles/index.csv`` (issue 24): which file holds which scene -- the file names (a
+    hash each) with the options that vary across the sweep and the status, in the table's
+    order.  Scenes without profiles (failed) are listed with an empty file name."""
+    varying = [k for k in OPTIONS if df[k].astype(str).nunique() > 1] or ["indenter"]
+    rows = []
+    for _, r in df.iterrows():
+        ok = r["status"] == "ok"
+        kinds = _Store._kinds({"indenter": r["indenter"]})
+        rows.append({"file": f"{r['key']}.csv" if ok else "",
+                     "maps_file": f"{r['key']}.npz" if ok and ".npz" in kinds else "",
+                     **{k: r[k] for k in varying}, "status": r["status"]})
+    import pandas as pd
+
+    index = pd.DataFrame(rows)
+    for c in index.columns:
+        index[c] = [_plain(v) for v in index[c]]
+    _atomic_write(folder / "index.csv", lambda fh: index.to_csv(fh, index=False))
 
 
 def _write_tables(df, out: Path) -> None:

@@ -56,7 +56,7 @@ def _bowl(x, y):
     (lambda x, y: np.where(x > 0, np.nan, _bowl(x, y)), "NaN"),
     (lambda x, y: np.where(x > 0, -np.inf, _bowl(x, y)), "-inf"),
     (lambda x, y: np.zeros(3), "shape"),
-    (lambda x, y: np.full(np.broadcast(x, y).shape, np.inf), r"\+inf everywhere"),
+    (lambda x, y: np.full(np.broadcast(x, y).shape, np.inf), "no finite one"),
 ])
 def test_an_indenter_callable_returning_nonsense_is_an_input_error(height, words):
     with pytest.raises(InputError, match=words):
@@ -129,3 +129,71 @@ def test_the_example_data_runs_as_readme_says(capsys):
     assert main(["calibrate", "--measured", str(ex / "synthetic_punch_scan.csv"), "--punch-load",
                  "0.1", "--n-boot", "0", "--json"]) == 0
     assert abs(json.loads(capsys.readouterr().out)["A_mV_per_bar"] / 19.0 - 1) < 0.01
+
+
+def test_start_up_imports_neither_dask_array_nor_scipy_fftpack():
+    """pyfftw is imported without its drop-in interfaces (numerics.fft._import_pyfftw): a fresh
+    solve imports neither dask.array nor scipy.fftpack (85 % of `import pyfftw`), and both
+    still import afterwards."""
+    import subprocess
+    import sys
+
+    code = ("import sys, spectral_contact as sc; sc.solve(tol=1e-2); "
+            "print('dask.array' in sys.modules, 'scipy.fftpack' in sys.modules); "
+            "import dask.array.fft, pyfftw.interfaces.scipy_fft; print('ok')")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=300).stdout.split()
+    assert out == ["False", "False", "ok"]
+
+
+def test_progress_on_a_terminal_is_one_line_rewritten_and_erased():
+    import io
+    import logging
+
+    from spectral_contact.cli.progress import show_progress
+
+    class Tty(io.StringIO):
+        def isatty(self):
+            return True
+
+    tty = Tty()
+    with show_progress(after=0.0, stream=tty, skip=("spectral_contact.solvers",)):
+        import time
+
+        time.sleep(0.05)
+        logging.getLogger("spectral_contact.instruments.compare").info("fit: solve 2")
+        logging.getLogger("spectral_contact.solvers.fft").info("level 3")  # skipped
+        logging.getLogger("spectral_contact.instruments.compare").info("fit: solve 3")
+    text = tty.getvalue()
+    assert "\n" not in text and "level 3" not in text and "fit: solve 3" in text
+    assert text.endswith("\r\x1b[K")  # erased when done
+
+
+def test_line_plot_window_holds_the_base_stress_tails():
+    """The plotted x range reaches where both base stresses are below 1 % of their peak (it
+    was the contact +- 2 h, cutting S_xz at a quarter of its peak)."""
+    from spectral_contact.result import TAIL_FRACTION
+
+    r = solve(tol=1e-3)
+    fig = r.plot()
+    lo, hi = fig.axes[1].get_xlim()
+    x = r.x_m * 1e3
+    base = np.maximum(np.abs(r.base_sigma_zz_Pa), np.abs(r.base_sigma_xz_Pa))
+    outside = (x < lo) | (x > hi)
+    assert np.max(base[outside], initial=0.0) < TAIL_FRACTION * base.max() * 1.01
+    assert fig.texts and fig.texts[0].get_fontsize() >= 10  # a readable title
+
+
+def test_surface_maps_clip_singular_ends_and_show_the_line_y0():
+    """Finite cylinder: the pressure's colour scale ends at the 99.5th percentile (its ends
+    are singular) and the title says so; the MEMS iso-lines have a colour bar; a y = 0 panel."""
+    from spectral_contact.instruments.sensor import sensor_maps
+    from spectral_contact.result import MAP_CLIP_PERCENTILE
+
+    r = solve(indenter="cylinder", force=1.0, tol=1e-2, grid_points=128)
+    fig = r.plot(sensor=sensor_maps(r))
+    title = fig._suptitle.get_text()
+    assert f"{MAP_CLIP_PERCENTILE:g}th percentile" in title and "pressure" in title
+    titles = [a.get_title() for a in fig.axes]
+    assert any(t.startswith("the line y = ") for t in titles)
+    assert sum(a.get_ylabel() == "kPa" for a in fig.axes) == 7  # a colour bar per map

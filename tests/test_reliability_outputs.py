@@ -11,6 +11,7 @@ import hashlib
 import io
 import os
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -118,7 +119,8 @@ def test_closed_stdout_is_refused_before_any_work(tmp_path, capsys, monkeypatch)
 def test_closed_and_full_stdout_in_a_real_process(tmp_path):
     import subprocess
 
-    env = dict(os.environ, PYTHONPATH=os.getcwd() + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    root = str(Path(__file__).resolve().parent.parent)  # this checkout's package
+    env = dict(os.environ, PYTHONPATH=root + os.pathsep + os.environ.get("PYTHONPATH", ""))
     argv = [sys.executable, "-m", "spectral_contact.cli.main", "solve", *FAST, "--json",
             "--profiles", "p.csv"]
     p = subprocess.run(argv, cwd=tmp_path, capture_output=False, stderr=subprocess.PIPE,

@@ -147,3 +147,23 @@ def test_scene_product_helper_refuses_in_python():
 
     with pytest.raises(InputError, match="scenes: at most"):
         plan(load="1:1000:1", mu="1:1000:1")
+
+
+def test_sweep_plot_and_profile_index(tmp_path, capsys, monkeypatch):
+    """--plot: a column against one option, one curve per value of another (axes checked
+    before any work); profiles/index.csv names the file of each scene."""
+    import pandas as pd
+
+    refused(["sweep", "--load", "100,200", "--out", "o", "--serial", "--plot", "p.png",
+             "--plot-y", "nonsense"], tmp_path, capsys, monkeypatch, ["--plot-y nonsense"])
+    refused(["sweep", "--load", "100,200", "--out", "o", "--serial", "--plot", "p.png",
+             "--plot-x", "load", "--plot-group", "load"], tmp_path, capsys, monkeypatch,
+            ["--plot-group"])
+    assert main(["sweep", "--load", "100,200", "--mu", "0,1", "--tol", "1e-2", "--serial",
+                 "--out", "o", "--profiles", "--plot", "p.png"]) == 0
+    assert (tmp_path / "p.png").stat().st_size > 1000
+    index = pd.read_csv(tmp_path / "o" / "profiles" / "index.csv")
+    assert list(index.columns[:2]) == ["file", "maps_file"] and {"load", "mu"} <= set(index.columns)
+    assert all((tmp_path / "o" / "profiles" / f).is_file() for f in index["file"])
+    summary = pd.read_csv(tmp_path / "o" / "summary.csv")
+    assert [f"{k}.csv" for k in summary["key"]] == index["file"].tolist()

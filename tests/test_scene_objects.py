@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from spectral_contact import Film, FrictionLaw, InputError, Interface, Scene, solve
+from spectral_contact import Film, FrictionLaw, InputError, Interface, Scene, Shape, solve
 from spectral_contact.physics.transfer import transfer_functions
 
 R = 0.13  # the paper's radius [m]
@@ -57,6 +57,22 @@ def test_a_user_parabola_is_the_cylinder_on_a_line():
     assert _rel(r.max_pressure_Pa, ref.max_pressure_Pa) <= bound
     dx = r.x[1] - r.x[0]
     assert -np.sum(r.base_sigma_zz) * dx == pytest.approx(r.scene.P, rel=1e-10)
+
+
+def test_a_user_parabola_through_the_exponential_interface():
+    """The exponential interface law starts its Newton iteration from the indenter's first
+    pressure: a user's line shape gives the cylinder's answer, without overflow on the way."""
+    import warnings
+
+    kw = dict(load=200.0, interface_law="exponential", interface_pressure=1e5,
+              interface_length=1e-6, tol=1e-3)
+    ref = solve(**kw)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        r = solve(indenter=lambda x: x**2 / (2 * R), **kw)
+    bound = ref.error_estimate + r.error_estimate
+    assert _rel(r.half_width_m, ref.half_width_m) <= bound
+    assert _rel(r.indentation_m, ref.indentation_m) <= bound
 
 
 def test_a_user_shape_beyond_the_cylinder_is_solved_on_a_line():
@@ -136,6 +152,19 @@ def test_the_interface_object_is_the_keyword_shorthand():
     b = solve(mu=2.0, friction_law="power", friction_exponent=0.1, friction_pref=2e4, tol=1e-3)
     np.testing.assert_array_equal(a.pressure, b.pressure)
     assert a.scene == b.scene
+
+
+def test_the_shape_object_is_the_keyword_shorthand():
+    a = solve(indenter=Shape.sphere(radius=0.05), force=0.2, tol=1e-2)
+    b = solve(indenter="sphere", radius=0.05, force=0.2, tol=1e-2)
+    np.testing.assert_array_equal(a.pressure, b.pressure)
+    a = solve(indenter=Shape.line(radius=0.1), tol=1e-3)
+    b = solve(radius=0.1, tol=1e-3)
+    np.testing.assert_array_equal(a.pressure, b.pressure)
+    s = solve(indenter=Shape.cylinder(radius=0.1292, length=0.008), force=1.0, tol=2e-2).scene
+    assert (s.indenter, s.radius, s.length) == ("cylinder", 0.1292, 0.008)
+    with pytest.raises(InputError, match="radius"):
+        solve(indenter=Shape.sphere(radius=0.05), radius=0.1)
 
 
 def test_the_film_object_is_the_keyword_shorthand():

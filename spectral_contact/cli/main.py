@@ -26,9 +26,9 @@ __all__ = ["main", "build_parser"]
 def _plugins():
     """The subcommands' modules beside ``solve`` and ``study``: each exposes register(subparsers)
     (a new subcommand: its module in cli/ and one line here)."""
-    from . import mems, onset, sweep
+    from . import invert, mems, onset, sweep
 
-    return (mems.register, sweep.register, onset.register)
+    return (mems.register, sweep.register, onset.register, invert.register)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -474,7 +474,8 @@ def main(argv=None) -> int:
         # command's stderr is its one error line, however loaded the machine (studies print
         # their own progress; calibrate its bootstrap i/n)
         quiet = args.command in ("study", "calibrate") or not _is_terminal(sys.stderr)
-        with show_progress(after=math.inf if quiet else 2.0):
+        with show_progress(after=math.inf if quiet else 2.0,
+                           skip=("spectral_contact.solvers",) if command == "compare" else ()):
             status = args.func(args)
         for text in _WARNINGS:
             print(text, file=sys.stderr)

@@ -203,7 +203,8 @@ def _cmd_compare(args) -> int:
         scene = Scene(load=P, mu=mu, young=args.young, radius=args.radius,
                       thickness=args.thickness, poisson=args.poisson)
     except InputError as exc:
-        why = str(exc).replace("load (P_L)", "P_L").replace("mu (mu_d)", "mu_d")
+        # the estimates' names, not options of compare (the table's words follow them)
+        why = exc.as_typed(lambda name: {"load": "the estimate", "mu": "the estimate"}.get(name, name))
         raise InputError(f"{args.measured}: the integral estimates P_L = {P:.4g} N/m, mu_d = "
                          f"{mu:.4g} are out of range ({why})") from None
     try:

@@ -144,9 +144,13 @@ def _cmd_onset(args) -> int:
     if args.plot is not None:
         check_plot_path(args.plot)
 
-    def progress(k, n, npts):
-        if k == n or k % max(1, n // 4) == 0:
-            print(f"onset: step {k}/{n} on {npts} points", file=sys.stderr)
+    tty = sys.stderr is not None and sys.stderr.isatty()
+
+    def progress(k, n, npts):  # on a terminal only, one line rewritten (as every command's)
+        if tty and (k == n or k % max(1, n // 4) == 0):
+            end = "\r\x1b[K" if k == n else ""
+            sys.stderr.write(f"\r\x1b[Konset: step {k}/{n} on {npts} points{end}")
+            sys.stderr.flush()
 
     r = onset(scene, steps=args.steps, tol=args.tol, loading=args.loading,
               loading_steps=args.loading_steps, grid_points=args.grid_points,

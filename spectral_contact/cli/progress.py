@@ -19,10 +19,16 @@ __all__ = ["show_progress"]
 
 
 class _Handler(logging.Handler):
-    def __init__(self, after: float, stream):
+    def __init__(self, after: float, stream, skip=()):
         super().__init__(logging.INFO)
         self.t0 = time.time()
         self.stream = stream
+        self.skip = tuple(skip)
+        try:  # a terminal: one line rewritten in place and erased at the end (as calibrate's)
+            self.tty = bool(stream.isatty())
+        except (AttributeError, ValueError, OSError):
+            self.tty = False
+        self.dirty = False
         self.live = False
         self.pending = None
         self.timer = None
@@ -36,8 +42,9 @@ class _Handler(logging.Handler):
 
     def _write(self, text: str) -> None:
         try:
-            self.stream.write(text + "\n")
+            self.stream.write(f"\r\x1b[K{text.strip()}" if self.tty else text + "\n")
             self.stream.flush()
+            self.dirty = True
         except (OSError, ValueError):  # stderr closed: progress is not worth an error
             pass
 
@@ -49,6 +56,8 @@ class _Handler(logging.Handler):
                 self.pending = None
 
     def emit(self, record) -> None:
+        if record.name.startswith(self.skip):
+            return
         line = self._line(record)
         if self.live:
             self._write(line)
@@ -58,15 +67,23 @@ class _Handler(logging.Handler):
     def close(self) -> None:
         if self.timer is not None:
             self.timer.cancel()
+        if self.tty and self.dirty:  # erase the progress line: stderr keeps its one-line promise
+            try:
+                self.stream.write("\r\x1b[K")
+                self.stream.flush()
+            except (OSError, ValueError):
+                pass
         super().close()
 
 
 @contextlib.contextmanager
-def show_progress(after: float = 2.0, stream=None):
+def show_progress(after: float = 2.0, stream=None, skip=()):
     """Within the block, print the package's INFO log lines on stderr once ``after`` seconds
-    have passed (``after=inf``: never)."""
+    have passed (``after=inf``: never); on a terminal as one line rewritten in place and erased
+    at the end.  ``skip``: logger-name prefixes not shown (compare shows its fit solves, not
+    each solve's refinement levels)."""
     logger = logging.getLogger("spectral_contact")
-    handler = _Handler(after, stream or sys.stderr)
+    handler = _Handler(after, stream or sys.stderr, skip)
     old_level = logger.level
     logger.addHandler(handler)
     if logger.getEffectiveLevel() > logging.INFO:

@@ -14,7 +14,7 @@ def add_scene_options(p):
     for o in OPTIONS:
         if o.cli and o.scenes != "solve":
             p.add_argument(o.flag, dest=o.name, type=o.kind, choices=o.choices, default=None,
-                           help=o.cli_help())
+                           metavar=o.symbol, help=o.cli_help())
 
 
 def add_solve_options(p):

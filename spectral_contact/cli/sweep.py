@@ -48,7 +48,65 @@ def register(subparsers) -> None:
     eng.add_argument("--serial", action="store_true", help="solve in this process (debugging)")
     p.add_argument("--profiles", action="store_true", help="write OUT/profiles/<key>.csv per scene")
     p.add_argument("--json", action="store_true", help="print one JSON object; no progress bar")
+    p.add_argument("--plot", metavar="FILE.png", default=None,
+                   help="plot a table column (--plot-y) against an option (--plot-x), one curve "
+                        "per value of another option (--plot-group); the ok scenes only")
+    p.add_argument("--plot-y", metavar="COLUMN", default="max_pressure_Pa",
+                   help="the quantity plotted: a numeric column of summary.csv (default "
+                        "max_pressure_Pa)")
+    p.add_argument("--plot-x", metavar="OPTION", default=None,
+                   help="the abscissa: an option (default: the first option with several values)")
+    p.add_argument("--plot-group", metavar="OPTION", default=None,
+                   help="one curve per value of this option (default: the second option with "
+                        "several values, if any)")
     p.set_defaults(func=_cmd_sweep)
+
+
+def _plot_axes(args, varying, columns):
+    """(x, group) of --plot, checked before any work (InputError naming the option)."""
+    from ..sweep import OPTIONS
+
+    x = args.plot_x.replace("-", "_") if args.plot_x else (varying[0] if varying else None)
+    if x is None:
+        raise InputError("--plot needs an option with several values (e.g. --load 50:400:50) or "
+                         "--plot-x OPTION")
+    g = args.plot_group.replace("-", "_") if args.plot_group else next(
+        (k for k in varying if k != x), None)
+    for opt, v in (("--plot-x", x), ("--plot-group", g)):
+        if v is not None and v not in OPTIONS:
+            raise InputError(f"{opt} {v}: not an option of sweep (one of "
+                             f"{', '.join(o.replace('_', '-') for o in OPTIONS)})")
+    if g == x:
+        raise InputError(f"--plot-group {g} is also --plot-x: give two different options")
+    if args.plot_y not in columns:
+        raise InputError(f"--plot-y {args.plot_y}: not a column of the table (e.g. "
+                         f"max_pressure_Pa, half_width_m, indentation_m, Q_over_P)")
+    return x, g
+
+
+def _plot_sweep(df, path, y, x, g):
+    """One curve of y against x per value of g (ok scenes), markers at the scenes."""
+    import pandas as pd
+    from matplotlib.figure import Figure
+
+    ok = df[df["status"] == "ok"].copy()
+    ok[y] = pd.to_numeric(ok[y], errors="coerce")
+    fig = Figure(figsize=(7, 4.5), layout="constrained")
+    ax = fig.subplots()
+    groups = [(None, ok)] if g is None else list(ok.groupby(g, sort=True))
+    for value, part in groups:
+        part = part.sort_values(x)
+        ax.plot(part[x], part[y], "o-", ms=4, label=None if g is None else f"{g} = {value:g}"
+                if isinstance(value, float) else f"{g} = {value}")
+    ax.set_xlabel(x)
+    ax.set_ylabel(y)
+    n_bad = int((df["status"] != "ok").sum())
+    ax.set_title(f"{y} against {x}" + (f", by {g}" if g else "") +
+                 (f" ({n_bad} failed scenes not shown)" if n_bad else ""), fontsize=11)
+    if g is not None:
+        ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    fig.savefig(path, dpi=120)
 
 
 def _check_spec_not_an_output(spec, out) -> None:
@@ -83,6 +141,21 @@ def _cmd_sweep(args) -> int:
     if not args.scheduler_timeout > 0:
         raise InputError(f"--scheduler-timeout must be > 0 s; got {args.scheduler_timeout}")
     options = {k: getattr(args, k) for k in OPTIONS if getattr(args, k) is not None}
+    plot_axes = None
+    if args.plot is not None:  # checked before any work
+        from ..sweep import parse_values, plan, table_columns
+        from .files import check_outputs, check_plot_path
+
+        check_outputs(inputs={"--spec": args.spec}, **{"--plot": args.plot})
+        check_plot_path(args.plot)
+        plan(args.spec, **options)  # the specification's own errors first
+        given = dict(options)
+        if args.spec:
+            from ..sweep import read_spec
+
+            given = {**read_spec(args.spec), **given}
+        varying = [k for k in OPTIONS if k in given and len(parse_values(k, given[k])) > 1]
+        plot_axes = _plot_axes(args, varying, table_columns())
     info = {}
     try:
         df = sweep(args.spec, out=args.out, engine="serial" if args.serial else "local",
@@ -102,6 +175,12 @@ def _cmd_sweep(args) -> int:
            "elapsed_s": info["elapsed_s"], "summary_csv": str(out / "summary.csv"),
            "summary_parquet": str(parquet) if parquet.is_file() else None,
            "profiles": str(out / "profiles") if args.profiles else None}
+    if plot_axes is not None:
+        from .files import Outputs
+
+        with Outputs() as outs:
+            _plot_sweep(df, outs.path(args.plot), args.plot_y, *plot_axes)
+        rec["plot"] = args.plot
     if args.json:
         print(json.dumps(rec, indent=2))
     else:

@@ -28,7 +28,34 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-import pyfftw
+
+
+def _import_pyfftw():
+    """``import pyfftw`` without the numpy/scipy/dask drop-in interfaces its package imports
+    (issue 24): pyfftw/__init__ imports ``pyfftw.interfaces``, which imports scipy.fftpack and
+    dask.array (for pyfftw.interfaces.scipy_fft/dask_fft) when they are installed -- 85 % of the
+    import (measured under load 12: 6.0-7.0 s against 1.0-1.1 s without them; at rest
+    0.35-0.45 s of a 0.5-0.65 s start-up).  This package uses only pyfftw.FFTW, empty_aligned
+    and the wisdom functions.  The two modules are marked absent (``sys.modules[name] = None``,
+    the import system's documented way) during this one import, which pyfftw tolerates (it
+    tries them in try/except ImportError), and unmarked right after: a later ``import
+    dask.array`` or ``pyfftw.interfaces.scipy_fft`` works as usual.  Modules already imported
+    are left alone (then pyfftw uses them, at no cost)."""
+    import sys
+
+    blocked = [m for m in ("dask.array.fft", "scipy.fftpack") if m not in sys.modules]
+    for m in blocked:
+        sys.modules[m] = None
+    try:
+        import pyfftw
+    finally:
+        for m in blocked:
+            if m in sys.modules and sys.modules[m] is None:
+                del sys.modules[m]
+    return pyfftw
+
+
+pyfftw = _import_pyfftw()
 
 __all__ = ["RealFFT", "get_rfft", "plan_cache_info", "clear_plans", "set_planner_effort",
            "load_wisdom", "save_wisdom", "WISDOM_FILE", "planning_time"]

@@ -227,15 +227,19 @@ class LineHeightFunction(Indenter):
         return np.abs(self.offset(grid)[0])
 
     def initial_pressure(self, grid) -> np.ndarray:
-        """1 on the nodes of the window |x| <= half_extent whose height is below the window's
-        median (only its support matters: it is the first active set)."""
+        """sqrt(f_c - f) carrying the load, f_c the highest height in the window |x| <=
+        half_extent (the Hertz profile's shape for a parabola): its support, the window that
+        bounds the contact, is the first active set, and its peak at the lowest node starts
+        the exponential interface's Newton iteration, which takes the indentation there."""
         f = self.height(grid)
         (x,) = self.offset(grid)
         sel = (np.abs(x) <= self.half_extent) & np.isfinite(f)
         if not sel.any() or self.load <= 0:
             return np.zeros(f.shape)
-        inside = sel & (f <= np.median(f[sel]))
-        return np.where(inside, 1.0, 0.0)
+        p = np.where(sel, np.sqrt(np.maximum(np.max(f[sel]) - f, 0.0)), 0.0)
+        if not p.any():  # a flat window: uniform on it
+            p = sel.astype(float)
+        return p * (self.load / (p.sum() * grid.cell))
 
     def extent_bound(self) -> float:
         return self.half_extent

@@ -77,6 +77,13 @@ class Option:
         assert self.scenes in _KINDS, self.scenes
 
     @property
+    def symbol(self) -> str | None:
+        """The symbol that opens ``what`` ("P_L" of "P_L, the load per unit length"), if any:
+        the metavar of --help."""
+        head, sep, _ = self.what.partition(", ")
+        return head if sep and " " not in head else None
+
+    @property
     def flag(self) -> str:
         """The command-line flag: --friction-exponent for friction_exponent."""
         return "--" + self.name.replace("_", "-")

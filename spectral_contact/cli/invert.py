@@ -1,0 +1,128 @@
+"""``spectral-contact invert``: from a measured line record of base stresses (or the MEMS view
+of them) to the interface tractions p(x), q(x) with their uncertainty, and the local friction
+law (``instruments.inverse``).
+
+``register(subparsers)`` adds the subcommand (``cli.main``); input problems raise InputError
+(one line, exit 2); every input is read and checked before any file is written, and the outputs
+are written whole or not at all, never over an input.
+"""
+from __future__ import annotations
+
+import os
+
+from ..errors import InputError
+from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR
+from .files import Outputs, add_meta, check_outputs, check_plot_path, to_json, write_csv
+from .mems import _apparatus, _positive, _scene_options
+
+__all__ = ["register", "CSV_COLUMNS"]
+
+CSV_COLUMNS = ("x_m", "pressure_Pa", "pressure_sd_Pa", "shear_Pa", "shear_sd_Pa", "mu_local",
+               "mu_local_sd")
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "invert", help="from measured base stresses to the interface tractions p, q with bands",
+        description="Infer the surface pressure p(x) and shear q(x) with posterior standard "
+                    "deviations from a line record of base stresses (x_m,base_sigma_zz_Pa,"
+                    "base_sigma_xz_Pa) or of the MEMS view (x_m,S_zz_Pa,S_xz_Pa or x_m,U_zz_mV,"
+                    "U_xz_mV, through the apparatus functions). Gaussian-process prior and noise "
+                    "chosen by the evidence; totals P, Q, Q/P with sigmas, mu_local = q/p where "
+                    "p > 3 sd, contact interval, resolution length, and fits of Amontons, "
+                    "q = tau0 + alpha p and a power law to the local (p, q) pairs (JSON 'laws').")
+    p.add_argument("record", metavar="FILE", help="CSV line record (uniform x_m, >= 8 rows)")
+    _scene_options(p, ("thickness", "poisson"),
+                   {"thickness": "base stresses do not depend on E or R"})
+    p.add_argument("--a-zz", type=_positive("--a-zz"), default=A_ZZ_MV_PER_BAR,
+                   help=f"A_zz [mV/bar] for U files ({A_ZZ_MV_PER_BAR:.2f})")
+    p.add_argument("--a-xz", type=_positive("--a-xz"), default=A_XZ_MV_PER_BAR,
+                   help=f"A_xz [mV/bar] for U files ({A_XZ_MV_PER_BAR:.2f})")
+    p.add_argument("--apparatus-zz", metavar="G.csv", default=None,
+                   help="radial G_zz (columns r_m, G or G_per_m2) instead of the paper's; "
+                        "S/U files only")
+    p.add_argument("--apparatus-xz", metavar="G.csv", default=None,
+                   help="radial G_xz instead of the paper's; S/U files only")
+    p.add_argument("--positive", action="store_true", help="constrain p >= 0")
+    p.add_argument("--support", type=float, nargs=2, metavar=("A_M", "B_M"), default=None,
+                   help="known contact interval [m] (p = q = 0 outside)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--out", metavar="OUT.csv", help="write x_m, pressure_Pa, pressure_sd_Pa, "
+                                                    "shear_Pa, shear_sd_Pa, mu_local, mu_local_sd")
+    p.add_argument("--plot", metavar="FILE.png", help="tractions, mu_local, data fit, laws")
+    p.set_defaults(func=_cmd_invert)
+
+
+def _cmd_invert(args) -> int:
+    import math
+
+    from ..instruments.inverse import invert_line, read_record
+    from ..physics.scene import check_poisson
+
+    check_poisson(args.poisson)
+    outputs = check_outputs(**{"--out": args.out, "--plot": args.plot})
+    if args.plot is not None:
+        check_plot_path(args.plot)
+    inputs = {os.path.realpath(f): opt for opt, f in
+              (("FILE", args.record), ("--apparatus-zz", args.apparatus_zz),
+               ("--apparatus-xz", args.apparatus_xz)) if f}
+    for opt, path in outputs.items():
+        if os.path.realpath(path) in inputs:
+            raise InputError(f"{opt} {path}: is the input {inputs[os.path.realpath(path)]}; "
+                             f"choose another output file")
+    if args.support is not None:
+        a, b = args.support
+        if not (math.isfinite(a) and math.isfinite(b) and b > a):
+            raise InputError(f"--support: need A_M < B_M, finite [m]; got {a:g} {b:g}")
+    x, zz, xz, view = read_record(args.record, args.a_zz, args.a_xz)
+    apparatus = _apparatus(args)
+    if view == "base" and apparatus is not None:
+        opt = "--apparatus-zz" if args.apparatus_zz else "--apparatus-xz"
+        raise InputError(f"{opt}: {args.record} holds base stresses (no apparatus); drop the "
+                         f"option or give the S/U record")
+    inv = invert_line(x, zz, xz, thickness=args.thickness, poisson=args.poisson, view=view,
+                      apparatus=apparatus, positive=args.positive, support=args.support)
+    rec = inv.summary()
+    rec["input"] = str(args.record)
+    with Outputs() as outs:
+        if "--out" in outputs:
+            write_csv(outs.path(outputs["--out"]), inv.profiles())
+            add_meta(outs, outputs["--out"], {
+                "written_by": "spectral-contact invert",
+                "columns": {"x_m": "traction node [m], the record's frame",
+                            "pressure_Pa": "p = -sigma_zz(x, h), posterior mean [Pa]",
+                            "pressure_sd_Pa": "posterior sd of p [Pa]",
+                            "shear_Pa": "q = sigma_xz(x, h), posterior mean [Pa]",
+                            "shear_sd_Pa": "posterior sd of q [Pa]",
+                            "mu_local": "q/p where p > 3 sd(p), else empty (nan)",
+                            "mu_local_sd": "first-order sd of q/p"},
+                **rec})
+        if "--plot" in outputs:
+            inv.plot().savefig(outs.path(outputs["--plot"]), dpi=120)
+    if args.json:
+        print(to_json(rec))
+    else:
+        mm = 1e3
+        ci, cs = rec["contact_interval_m"], rec["contact_interval_sigma_m"]
+        laws = rec["laws"]
+        lines = [
+            f"{args.record}: {rec['points']} samples ({view} view), {rec['nodes']} traction nodes",
+            f"  P   = {rec['load_N_per_m']:.5g} +- {rec['load_sigma_N_per_m']:.2g} N/m",
+            f"  Q   = {rec['tangential_load_N_per_m']:.5g} +- "
+            f"{rec['tangential_load_sigma_N_per_m']:.2g} N/m, Q/P = {rec['Q_over_P']:.4g} +- "
+            f"{rec['Q_over_P_sigma']:.2g}",
+            f"  contact [{ci[0] * mm:.3f} +- {cs[0] * mm:.2g}, {ci[1] * mm:.3f} +- "
+            f"{cs[1] * mm:.2g}] mm; resolution {rec['resolution_length_m'] * mm:.3g} mm",
+            f"  noise sd zz {rec['noise_sd_zz_Pa']:.3g} Pa, xz {rec['noise_sd_xz_Pa']:.3g} Pa "
+            f"(by evidence; log-evidence {rec['log_evidence']:.2f})"]
+        for law in ("amontons", "linear", "power"):
+            r = laws.get(law, {})
+            if "aic" not in r:
+                continue
+            pars = ", ".join(f"{k} = {r[k]:.4g} +- {r[k + '_sigma']:.2g}" for k in r
+                             if k + "_sigma" in r)
+            lines.append(f"  law {law:<9s} {pars}; chi2 {r['chi2']:.1f}/{r['dof']} "
+                         f"(p {r['p_value']:.2g}), AIC {r['aic']:.1f}")
+        lines.append(f"  best law (AIC): {laws.get('best')}")
+        print("\n".join(lines))
+    return 0

@@ -1,0 +1,201 @@
+"""The inverse (issue 21): from base stresses (or the MEMS view) to the interface tractions."""
+import json
+
+import numpy as np
+import pytest
+
+from spectral_contact import solve
+from spectral_contact.cli.main import main
+from spectral_contact.instruments.inverse import (
+    LineForward,
+    base_from_tractions,
+    invert,
+    invert_line,
+)
+from spectral_contact.instruments.sensor import sensor_view
+from spectral_contact.physics.film import Film
+
+H = 0.002
+X = np.arange(-10e-3, 10e-3 + 1e-9, 0.1e-3)  # a +-10 mm record, 201 samples
+
+
+def _record(result, noise, seed, view="base", x=X):
+    if view == "base":
+        zz = np.interp(x, result.x_m, -result.base_sigma_zz_Pa)
+        xz = np.interp(x, result.x_m, result.base_sigma_xz_Pa)
+    else:
+        v = sensor_view(result)
+        zz = np.interp(x, result.x_m, v["S_zz_Pa"])
+        xz = np.interp(x, result.x_m, v["S_xz_Pa"])
+    rng = np.random.default_rng(seed)
+    return (zz + noise * np.abs(zz).max() * rng.standard_normal(x.size),
+            xz + noise * np.abs(xz).max() * rng.standard_normal(x.size))
+
+
+@pytest.fixture(scope="module")
+def amontons():
+    return solve(load=200.0, mu=1.0)
+
+
+@pytest.fixture(scope="module")
+def strength():
+    return solve(load=200.0, mu=1.0, friction_law="linear", shear_strength=15e3, shear_slope=0.3)
+
+
+def test_totals_identities():
+    """Int base sigma_zz dx = -P and Int base sigma_xz dx = Q (A(0) = C(0) = 1, B(0) = 0), for
+    the synthetic route and for the inverse's forward matrix."""
+    x = np.linspace(-40 * H, 40 * H, 4096, endpoint=False)
+    p = np.where(np.abs(x) < 2e-3, 5e4 * np.sqrt(np.clip(1 - (x / 2e-3) ** 2, 0, None)), 0.0)
+    q = 0.4 * p + np.where(np.abs(x) < 2e-3, 3e3, 0.0)
+    szz, sxz = base_from_tractions(x, p, q, H)
+    dx = x[1] - x[0]
+    assert np.sum(-szz) * dx == pytest.approx(np.sum(p) * dx, rel=1e-9)
+    assert np.sum(sxz) * dx == pytest.approx(np.sum(q) * dx, rel=1e-9)
+    # forward matrix: a node in the middle of a long record; its columns integrate to the
+    # node's weight (p -> zz, q -> xz) and to 0 across (the B coupling is odd)
+    xs = np.linspace(-30.0, 30.0, 6001)
+    fwd = LineForward.build(xs, Film(1.0))
+    j = int(np.argmin(np.abs(fwd.nodes)))
+    d = xs[1] - xs[0]
+    assert np.sum(fwd.Mzp[:, j]) * d == pytest.approx(fwd.weights[j], rel=1e-5)
+    assert np.sum(fwd.Mxq[:, j]) * d == pytest.approx(fwd.weights[j], rel=1e-5)
+    assert abs(np.sum(fwd.Mzq[:, j]) * d) < 1e-5 * fwd.weights[j]
+    # and it reproduces the periodic transfer at the samples
+    pt = np.interp(xs * H, x, p)
+    t = fwd.nodes * H
+    pn, qn = np.interp(t, x, p), np.interp(t, x, q)
+    dz, dxz = fwd.apply(pn, qn)
+    ok = np.abs(xs) < 10
+    assert np.max(np.abs(dz[ok] - np.interp(xs[ok] * H, x, -szz))) < 0.02 * np.max(pt)
+    assert np.max(np.abs(dxz[ok] - np.interp(xs[ok] * H, x, sxz))) < 0.02 * np.max(pt)
+
+
+def test_noise_free_recovery(amontons):
+    """The solver's own base stresses (exact model, noise-free): P, Q to 0.5 %, the tractions to
+    what the resolution allows (L2 < 12 %), contact edges within a resolution length."""
+    inv = invert(amontons)
+    s = inv.summary()
+    assert s["load_N_per_m"] == pytest.approx(200.0, rel=5e-3)
+    assert s["tangential_load_N_per_m"] == pytest.approx(200.0, rel=5e-3)
+    pt = np.interp(inv.x_m, amontons.x_m, amontons.pressure_Pa)
+    assert np.linalg.norm(inv.pressure_Pa - pt) / np.linalg.norm(pt) < 0.12
+    (a, b), = amontons.contact_intervals_m
+    lo, hi = s["contact_interval_m"]
+    assert abs(lo - a) < 2 * s["resolution_length_m"] + 1e-4
+    assert abs(hi - b) < 2 * s["resolution_length_m"] + 1e-4
+
+
+@pytest.mark.parametrize("view", ["base", "sensor"])
+def test_round_trip_within_bands(amontons, view):
+    """1 % noise: P and Q within 2 sigma and 1 %, the 2-sd bands cover the truth at >= 80 % of
+    the contact's nodes; an Amontons record is not rejected (chi^2 p-value > 0.01)."""
+    zz, xz = _record(amontons, 0.01, 3, view)
+    inv = invert_line(X, zz, xz, view=view)
+    s = inv.summary()
+    for key, true in (("load_N_per_m", 200.0), ("tangential_load_N_per_m", 200.0)):
+        sig = s[key.replace("_N_per_m", "_sigma_N_per_m")]
+        assert abs(s[key] - true) < 2 * sig + 1e-3 * true
+        assert abs(s[key] - true) < 0.01 * true
+    (a, b), = amontons.contact_intervals_m
+    inside = (inv.x_m > a) & (inv.x_m < b)
+    for f, sd, true in ((inv.pressure_Pa, inv.pressure_sd_Pa, amontons.pressure_Pa),
+                        (inv.shear_Pa, inv.shear_sd_Pa, amontons.surface_shear_Pa)):
+        t = np.interp(inv.x_m, amontons.x_m, true)
+        assert np.mean(np.abs(f - t)[inside] <= 2 * sd[inside]) >= 0.8
+    am = s["laws"]["amontons"]
+    assert am["p_value"] > 0.01
+    assert abs(am["mu"] - 1.0) < 2 * am["mu_sigma"] + 0.02
+    ok = np.isfinite(inv.mu_local)
+    assert ok.sum() >= 5
+    assert np.all(np.isnan(inv.mu_local[inv.pressure_Pa <= 3 * inv.pressure_sd_Pa]))
+
+
+def test_shear_strength_law(strength):
+    """q = tau0 + alpha p (tau0 = 15 kPa, alpha = 0.3), 401 samples at 0.1 % noise: the fit
+    recovers tau0 and alpha within 2 sigma, and Amontons loses by AIC (by more than 2).  (At
+    0.3 % noise and 201 samples the laws are not told apart: studies/inverse.py.)"""
+    x = np.arange(-10e-3, 10e-3 + 1e-9, 0.05e-3)
+    zz, xz = _record(strength, 0.001, 0, x=x)
+    laws = invert_line(x, zz, xz).laws
+    lin, am = laws["linear"], laws["amontons"]
+    assert abs(lin["tau0_Pa"] - 15e3) < 2 * lin["tau0_Pa_sigma"]
+    assert abs(lin["alpha"] - 0.3) < 2 * lin["alpha_sigma"]
+    assert am["aic"] > lin["aic"] + 2
+
+
+def _write(path, header, rows):
+    path.write_text(header + "\n" + "\n".join(",".join(f"{v:.9g}" for v in r) for r in rows) + "\n")
+
+
+@pytest.fixture(scope="module")
+def good_file(tmp_path_factory, amontons):
+    zz, xz = _record(amontons, 0.01, 5)
+    p = tmp_path_factory.mktemp("inv") / "rec.csv"
+    _write(p, "x_m,base_sigma_zz_Pa,base_sigma_xz_Pa", zip(X, -zz, xz))
+    return p
+
+
+def test_cli_outputs(good_file, tmp_path, capsys):
+    out, png = tmp_path / "t.csv", tmp_path / "t.png"
+    assert main(["invert", str(good_file), "--json", "--out", str(out), "--plot", str(png)]) == 0
+    rec = json.loads(capsys.readouterr().out)
+    for key in ("load_N_per_m", "load_sigma_N_per_m", "tangential_load_N_per_m",
+                "tangential_load_sigma_N_per_m", "Q_over_P", "Q_over_P_sigma",
+                "contact_interval_m", "resolution_length_m", "regularisation", "log_evidence",
+                "laws"):
+        assert key in rec
+    assert rec["load_N_per_m"] == pytest.approx(200.0, rel=0.01)
+    import pandas as pd
+
+    df = pd.read_csv(out)
+    assert list(df.columns) == ["x_m", "pressure_Pa", "pressure_sd_Pa", "shear_Pa", "shear_sd_Pa",
+                                "mu_local", "mu_local_sd"]
+    assert png.stat().st_size > 1000
+    # never over the input
+    before = good_file.read_bytes()
+    assert main(["invert", str(good_file), "--out", str(good_file)]) == 2
+    assert good_file.read_bytes() == before
+
+
+@pytest.mark.parametrize("header, rows, words", [
+    ("x_m,base_sigma_zz_Pa", [(i * 1e-4, 1.0) for i in range(20)], "missing"),
+    ("x_m,base_sigma_zz_Pa,base_sigma_xz_Pa", [(i * 1e-4, float("nan") if i == 3 else 1.0, 0.0)
+                                               for i in range(20)], "not finite"),
+    ("x_m,base_sigma_zz_Pa,base_sigma_xz_Pa", [(0.0, -1.0, 0.0)], "only 1 data rows"),
+    ("x_m,base_sigma_zz_Pa,base_sigma_xz_Pa", [((i * 7) % 20 * 1e-4, -1.0, 0.0) for i in range(20)],
+     "not strictly increasing"),
+    ("x_m,S_zz_Pa,base_sigma_xz_Pa,S_xz_Pa", [(i * 1e-4, 1.0, 0.0, 0.0) for i in range(20)],
+     "mixes views"),
+])
+def test_cli_bad_files(tmp_path, capsys, header, rows, words):
+    f = tmp_path / "bad.csv"
+    _write(f, header, rows)
+    out = tmp_path / "o.csv"
+    assert main(["invert", str(f), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and words in err[0]
+    assert not out.exists()
+
+
+def test_cli_apparatus_with_base_file(good_file, tmp_path, capsys):
+    g = tmp_path / "g.csv"
+    _write(g, "r_m,G", [(i * 1e-4, np.exp(-i / 5)) for i in range(30)])
+    assert main(["invert", str(good_file), "--apparatus-zz", str(g)]) == 2
+    assert "--apparatus-zz" in capsys.readouterr().err
+
+
+def test_positive_and_support(amontons):
+    """p >= 0 at every node with positive=True (the nodes at the bound have sd 0); with a known
+    support the nodes lie on it and the totals still hold."""
+    zz, xz = _record(amontons, 0.01, 7)
+    inv = invert_line(X, zz, xz, positive=True)
+    assert np.all(inv.pressure_Pa >= 0)
+    assert np.all(inv.pressure_sd_Pa[inv.pressure_Pa == 0] == 0)
+    assert inv.summary()["load_N_per_m"] == pytest.approx(200.0, rel=0.01)
+    (a, b), = amontons.contact_intervals_m
+    inv = invert_line(X, zz, xz, support=(a, b))
+    assert inv.x_m.min() == pytest.approx(a) and inv.x_m.max() == pytest.approx(b)
+    s = inv.summary()
+    assert abs(s["load_N_per_m"] - 200.0) < 0.01 * 200.0
+    assert abs(s["tangential_load_N_per_m"] - 200.0) < 0.01 * 200.0
