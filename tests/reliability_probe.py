@@ -161,7 +161,7 @@ CASES = [
      {2}, "calibrate full stdout", None, {"stdout": "full"}),
     ([S, "--load", "4.9e-324"], {2}, "subnormal load"),
     ([S, "--load", "4.9e-324", "--json"], {2}, "subnormal load json"),
-    ([S, "--load", "2e-310", "--model", "hertz"], {2}, "subnormal load hertz"),
+    ([S, "--load", "2e-310", "--model", "hertz", "--json"], {0}, "subnormal load hertz (closed form)"),
     ([S, "--friction-law", "power", "--friction-pref", "4.9e-324", "--tol", "1e-2"], {2},
      "subnormal p_ref"),
     ([S, "--friction-law", "power", "--friction-pref", "1e300", "--tol", "1e-2"], {2}, "huge p_ref"),

@@ -163,3 +163,14 @@ def test_a_failed_rename_restores_the_files_already_replaced(tmp_path):
     assert info.value.filename == str(tmp_path / "b")
     assert (tmp_path / "a.csv").read_text() == "old a"
     assert sorted(os.listdir(tmp_path)) == ["a.csv", "b"]
+
+
+def test_invert_uses_the_shared_check(files, capsys, monkeypatch):
+    """invert (issue 21's command): its --out's implicit metadata may not be its record, nor a
+    hard link to it."""
+    os.rename(files / "M.csv", files / "M.meta.json")
+    refused(["invert", "M.meta.json", "--out", "M"], files, capsys, monkeypatch,
+            ["metadata", "would overwrite the input FILE M.meta.json"])
+    os.link(files / "M.meta.json", files / "hl.csv")
+    refused(["invert", "hl.csv", "--plot", "x.png", "--out", "M.meta.json"], files, capsys,
+            monkeypatch, ["would overwrite the input FILE hl.csv"])

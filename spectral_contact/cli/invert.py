@@ -8,8 +8,6 @@ are written whole or not at all, never over an input.
 """
 from __future__ import annotations
 
-import os
-
 from ..errors import InputError
 from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR
 from .files import Outputs, add_meta, check_outputs, check_plot_path, to_json, write_csv
@@ -60,16 +58,13 @@ def _cmd_invert(args) -> int:
     from ..physics.scene import check_poisson
 
     check_poisson(args.poisson)
-    outputs = check_outputs(**{"--out": args.out, "--plot": args.plot})
+    # the shared check (issue 24): no output, implicit .meta.json included, over an input
+    # (resolved path or inode) or over another output
+    outputs = check_outputs(inputs={"FILE": args.record, "--apparatus-zz": args.apparatus_zz,
+                                    "--apparatus-xz": args.apparatus_xz},
+                            metas=("--out",), **{"--out": args.out, "--plot": args.plot})
     if args.plot is not None:
         check_plot_path(args.plot)
-    inputs = {os.path.realpath(f): opt for opt, f in
-              (("FILE", args.record), ("--apparatus-zz", args.apparatus_zz),
-               ("--apparatus-xz", args.apparatus_xz)) if f}
-    for opt, path in outputs.items():
-        if os.path.realpath(path) in inputs:
-            raise InputError(f"{opt} {path}: is the input {inputs[os.path.realpath(path)]}; "
-                             f"choose another output file")
     if args.support is not None:
         a, b = args.support
         if not (math.isfinite(a) and math.isfinite(b) and b > a):
@@ -99,8 +94,13 @@ def _cmd_invert(args) -> int:
                 **rec})
         if "--plot" in outputs:
             inv.plot().savefig(outs.path(outputs["--plot"]), dpi=120)
+        _print_invert(outs, args, rec, view)  # stdout with the files, or nothing
+    return 0
+
+
+def _print_invert(outs, args, rec, view) -> None:
     if args.json:
-        print(to_json(rec))
+        outs.print(to_json(rec))
     else:
         mm = 1e3
         ci, cs = rec["contact_interval_m"], rec["contact_interval_sigma_m"]
@@ -124,5 +124,4 @@ def _cmd_invert(args) -> int:
             lines.append(f"  law {law:<9s} {pars}; chi2 {r['chi2']:.1f}/{r['dof']} "
                          f"(p {r['p_value']:.2g}), AIC {r['aic']:.1f}")
         lines.append(f"  best law (AIC): {laws.get('best')}")
-        print("\n".join(lines))
-    return 0
+        outs.print("\n".join(lines))
