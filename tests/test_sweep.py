@@ -44,9 +44,10 @@ def serial(tmp_path_factory):
 
 
 def _same_profiles(a, b):
-    """The profile files of two runs are the same, byte for byte."""
+    """The profile files of two runs are the same, byte for byte (the index too)."""
     fa = sorted(p.name for p in (a / "profiles").glob("*.csv"))
-    assert fa == sorted(p.name for p in (b / "profiles").glob("*.csv")) and len(fa) == 12
+    assert fa == sorted(p.name for p in (b / "profiles").glob("*.csv")) and len(fa) == 13
+    assert "index.csv" in fa
     for name in fa:
         assert (a / "profiles" / name).read_bytes() == (b / "profiles" / name).read_bytes(), name
 
