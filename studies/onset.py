@@ -146,6 +146,11 @@ def speed_rows(quick: bool) -> list[dict]:
     tol = 1e-2 if quick else None  # (None: onset's default, 1e-3)
     r = onset(Scene(), tol=tol)  # warm (plans, symbols)
     t = median_time(lambda: onset(Scene(), tol=tol), repeats)
+    cpu = []  # this process's CPU time (single-threaded: its solving time, less the waits of
+    for _ in range(repeats):  # a shared machine)
+        c0 = time.process_time()
+        onset(Scene(), tol=tol)
+        cpu.append(time.process_time() - c0)
     c = r.counters
     # one matrix-vector product's transforms (p and q through the 2 x 2 symbol: two FFT pairs
     # in one batched plan) on the final grid, timed in this run: the time in units of it
@@ -164,6 +169,7 @@ def speed_rows(quick: bool) -> list[dict]:
              r.loading_steps, "tol": r.tol, "grid_points": r.grid.n,
              "fft_pairs": c["fft_pairs"], "active_set_iterations": c["iterations"],
              "gmres_iterations": c["krylov_iterations"], "median_wall_s": t,
+             "median_cpu_s": float(np.median(cpu)), "min_cpu_s": min(cpu), "max_cpu_s": max(cpu),
              "steady_solve_s": r.steady.wall_time_s, "repeats": repeats,
              "load_average_1min": load, "error_estimate": max(r.error_estimates),
              "matvec_transform_us": t_pair * 1e6,

@@ -57,7 +57,9 @@ def _peers_note() -> str:
 SLIDING = dict(indenter="sphere", force=1.0, mu=1.0, domain_length=0.03)  # 30 mm period
 TARGET_PAIRS = 70.0      # fixed-grid sliding sphere through solve(): FFT-pair times of its grid
 TARGET_CYLINDER = 60.0   # the paper's finite cylinder at its default tol: pair times of 1024^2
-TARGET_FLAT_GMRES = 4    # finest-grid GMRES iterations: largest N minus smallest N, at most
+TARGET_FLAT_GMRES = 1.5  # finest-grid GMRES iterations: largest N over smallest N, at most (the
+# ratio issue 10 set; measured 17, 17, 18, 24 at 256^2 ... 2048^2: a third active-set step of
+# 5 GMRES iterations at 2048^2 sheds 2 nodes)
 TARGET_FLAT_STEPS = 1    # and finest-grid active-set steps
 BIG_N = 4096
 
@@ -168,8 +170,8 @@ def benchmark_targets(out, quick: bool = False) -> list[dict]:
                 r["solve_in_fft_pairs"], TARGET_PAIRS, "FFT-pair times") for r in rows
          if r["nx"] >= 512]  # (the issue's grids; 256^2 is in the CSV)
     first, last = rows[0], rows[-1]
-    t.append(target(f"3D finest-grid GMRES iterations, {last['nx']}^2 minus {first['nx']}^2",
-                    last["gmres_its"] - first["gmres_its"], TARGET_FLAT_GMRES, "iterations"))
+    t.append(target(f"3D finest-grid GMRES iterations, {last['nx']}^2 over {first['nx']}^2",
+                    last["gmres_its"] / first["gmres_its"], TARGET_FLAT_GMRES, "ratio"))
     t.append(target(f"3D finest-grid active-set steps, {last['nx']}^2 minus {first['nx']}^2",
                     last["active_set_its"] - first["active_set_its"], TARGET_FLAT_STEPS, "steps"))
     t.append(target("3D finite cylinder, default tol: solve time", cyl["solve_in_fft_pairs"]

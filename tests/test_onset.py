@@ -161,7 +161,8 @@ def test_last_step_is_steady_sliding():
 @pytest.mark.parametrize("bad", [dict(steps=0), dict(steps=2.5), dict(loading="sticky"),
                                  dict(mu=0.0), dict(friction_law="power", friction_exponent=0.1,
                                                     friction_pref=1e3),
-                                 dict(indenter="sphere"), dict(loading_steps=0),
+                                 dict(indenter="cylinder", force=1.0), dict(loading_steps=0),
+                                 dict(indenter="sphere", load=1.0),
                                  dict(amplitude=0.0), dict(amplitude=1.5)])
 def test_python_refusals(bad):
     with pytest.raises(InputError):
@@ -180,7 +181,8 @@ def _cli(capsys, *args):
 @pytest.mark.parametrize("args,word", [(["--steps", "0"], "--steps"),
                                        (["--steps", "x"], "--steps"),
                                        (["--friction-law", "power"], "--friction-law"),
-                                       (["--indenter", "sphere"], "--indenter"),
+                                       (["--indenter", "cylinder"], "--indenter"),
+                                       (["--indenter", "sphere", "--sensor"], "--sensor"),
                                        (["--interface-compliance", "1e-9"], "--interface")])
 def test_cli_refusals(tmp_path, capsys, args, word):
     out = tmp_path / "p.csv"

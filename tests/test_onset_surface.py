@@ -81,3 +81,27 @@ def test_coulomb_direction_and_equilibrium(loading):
         assert abs(st.delta[1]) <= 1e-8 * abs(st.delta[0])
     d = [st.delta[0] for st in loading["states"]]
     assert all(b > a_ for a_, b in zip(d, d[1:]))
+
+
+def test_sphere_onset_front_door(tmp_path, capsys):
+    """``onset(indenter="sphere", ...)`` and the command line on a fixed small grid: the JSON
+    keys of the issue, the shrinking stick zone, the last step at gross sliding."""
+    import json
+
+    from spectral_contact import onset
+    from spectral_contact.cli.main import main
+
+    r = onset(indenter="sphere", force=1.0, mu=1.0, steps=3, loading_steps=2, grid_points=64)
+    s = r.summary()
+    keys = {"Q_over_muP", "tangential_force_N", "stick_area_m2", "stick_radius_m",
+            "contact_radius_m", "indentation_m", "max_pressure_Pa", "tangential_displacement_m"}
+    assert keys <= set(s["steps"][0])
+    radii = [st["stick_radius_m"] for st in s["steps"]]
+    assert radii[0] > radii[1] > radii[2]
+    assert s["steps"][-1]["tangential_force_N"] == pytest.approx(1.0)
+    out = tmp_path / "p.csv"
+    assert main(["onset", "--indenter", "sphere", "--force", "1", "--steps", "2",
+                 "--loading-steps", "1", "--grid-points", "64", "--json",
+                 "--profiles", str(out)]) == 0
+    rec = json.loads(capsys.readouterr().out)
+    assert len(rec["steps"]) == 2 and out.exists()

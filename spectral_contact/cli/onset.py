@@ -107,6 +107,24 @@ def _text(r) -> str:
     return "\n".join(lines)
 
 
+def _text3d(r) -> str:
+    s = r.summary()
+    mm, um = 1e3, 1e6
+    lines = [f"onset of sliding: {s['indenter']}, F = {s['force_N']:g} N, mu = {s['mu']:g}, "
+             f"R = {s['radius_m'] * mm:g} mm, h = {s['thickness_m'] * mm:g} mm; {s['loading']} "
+             f"loading; {s['grid_points'][0]} x {s['grid_points'][1]} points, error estimate "
+             f"{s['error_estimate']:.1e}",
+             "  Q/(mu P)   Q [N]    stick radius [mm]  contact radius [mm]  centre [mm]  "
+             "d [um]   p_max [kPa]  delta [um]"]
+    for st in [s["loaded"]] + s["steps"]:
+        lines.append(
+            f"  {st['Q_over_muP']:7.3f} {st['tangential_force_N']:8.4f}  "
+            f"{st['stick_radius_m'] * mm:12.4f}  {st['contact_radius_m'] * mm:18.4f}  "
+            f"{st['contact_center_m'] * mm:11.4f}  {st['indentation_m'] * um:7.3f}  "
+            f"{st['max_pressure_Pa'] / 1e3:10.4f}  {st['tangential_displacement_m'] * um:9.4f}")
+    return "\n".join(lines)
+
+
 def _cmd_onset(args) -> int:
     from ..physics.scene import Scene
     from ..solvers.onset import MAX_STEPS, onset
@@ -121,9 +139,11 @@ def _cmd_onset(args) -> int:
 
     given = scene_args(args)  # the options the user gave, checked against the indenter
     indenter = given.pop("indenter", "line")
-    if indenter != "line":
-        raise InputError(f"--indenter {indenter}: onset is implemented for the line "
-                         f"indenter only (spheres: not yet)")
+    if indenter not in ("line", "sphere", "paraboloid"):
+        raise InputError(f"--indenter {indenter}: onset takes line, sphere or paraboloid "
+                         f"(smooth indenters)")
+    if indenter != "line" and args.sensor:
+        raise InputError("--sensor: onset's MEMS view is for the line indenter only")
     law = given.get("friction_law", "amontons")
     if law != "amontons":
         raise InputError(f"--friction-law {law}: onset takes amontons only "
@@ -136,7 +156,12 @@ def _cmd_onset(args) -> int:
     if given.get("interface_compliance") or given.get("interface_law", "linear") != "linear":
         raise InputError("--interface-compliance/--interface-law: onset takes a rigid interface "
                          "only")
-    scene = Scene(**given)
+    if indenter == "line":
+        scene = Scene(**given)
+    else:
+        from ..physics.scene import Scene3D
+
+        scene = Scene3D(indenter=indenter, **given)
     if scene.mu == 0:
         raise InputError("--mu must be != 0 for onset (the tangential load goes up to mu P)")
     outputs = check_outputs(metas=("--profiles",),
@@ -149,7 +174,8 @@ def _cmd_onset(args) -> int:
     def progress(k, n, npts):  # on a terminal only, one line rewritten (as every command's)
         if tty and (k == n or k % max(1, n // 4) == 0):
             end = "\r\x1b[K" if k == n else ""
-            sys.stderr.write(f"\r\x1b[Konset: step {k}/{n} on {npts} points{end}")
+            size = npts if indenter == "line" else f"{npts}^2"
+            sys.stderr.write(f"\r\x1b[Konset: step {k}/{n} on {size} points{end}")
             sys.stderr.flush()
 
     r = onset(scene, steps=args.steps, tol=args.tol, loading=args.loading,
@@ -173,5 +199,7 @@ def _cmd_onset(args) -> int:
         if "--plot" in outputs:
             fig = r.plot(sensor=view)
             fig.savefig(outs.path(outputs["--plot"]), dpi=120)
-        outs.print(to_json(record) if args.json else _text(r))  # stdout with the files, or nothing
+        # stdout with the files, or nothing
+        outs.print(to_json(record) if args.json else
+                   (_text(r) if indenter == "line" else _text3d(r)))
     return 0

@@ -374,8 +374,9 @@ def solve_slip_step_2d(op: PartialSlipOperator2D, f: np.ndarray, prev: SlipState
         # slip against the shear (or off its direction), weighted by the slip's size
         # (not at gross sliding: there the slip is unbounded along Q, this step's finite
         # increment is not its direction)
-        "slip_direction": float(np.max(((1.0 - along) * dsn)[slipn])) / ds_scale
-        if slipn.any() and not gross else 0.0,
+        # (nodes without pressure carry no shear: no direction to check)
+        "slip_direction": float(np.max(np.where(qn > 0, (1.0 - along) * dsn, 0.0)[slipn]))
+        / ds_scale if slipn.any() and not gross else 0.0,
         "load": abs(cell * p.sum() - P) / P,
         "tangential_load": float(np.hypot(*(cell * q.sum(axis=1) - Q))) / Qn,
     }

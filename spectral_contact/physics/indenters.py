@@ -166,9 +166,11 @@ def user_heights(function, *xy) -> np.ndarray:
     if f.shape != np.broadcast(*xy).shape:
         raise InputError(f"{named('indenter')}: the height function returned shape {f.shape} "
                          f"for nodes of shape {np.broadcast(*xy).shape}: it must act elementwise")
-    if np.isnan(f).any() or (f == -np.inf).any() or not np.isfinite(f).any():
+    bad = ("NaN" if np.isnan(f).any() else "-inf" if (f == -np.inf).any() else
+           "+inf everywhere (no finite one: no indenter on the grid)" if not np.isfinite(f).any() else None)
+    if bad:
         raise InputError(f"{named('indenter')}: the height function must return finite heights "
-                         f"(or +inf where there is no indenter); got NaN, -inf or no finite one")
+                         f"(or +inf where there is no indenter); got {bad}")
     return f
 
 

@@ -53,6 +53,8 @@ class Option:
     sweep : an option of ``sweep`` (its column and store key).
     json : the JSON key of the results (None: none, or said by the result).
     cli : on the command line (``solve``); help : more words for --help.
+    practice : (lo, hi), the range of soft-contact practice: a value outside is accepted with
+        a warning, most often being a units slip (``physics.scene.SOFT_CONTACT_RANGES``).
     """
 
     name: str
@@ -72,6 +74,7 @@ class Option:
     json: str | None = None
     cli: bool = True
     help: str = ""
+    practice: tuple | None = None
 
     def __post_init__(self):
         assert self.scenes in _KINDS, self.scenes
@@ -166,15 +169,15 @@ OPTIONS: tuple[Option, ...] = (
            sweep=True, json="mu", help="signed: < 0 slides toward -x"),
     # --- the film ---
     Option("young", "E, the film's Young modulus", "Pa", default=2.2e6, **_POS, sweep=True,
-           json="young_Pa"),
+           json="young_Pa", practice=(1e3, 1e9)),
     Option("radius", "R, the indenter's radius", "m", default=0.130, **_POS, sweep=True,
-           json="radius_m"),
+           json="radius_m", practice=(1e-6, 10.0)),
     Option("thickness", "h, the film thickness", "m", default=0.002, **_POS, sweep=True,
-           json="thickness_m"),
+           json="thickness_m", practice=(1e-6, 0.1)),
     # --- the surface indenters' shapes ---
     Option("length", "the finite cylinder's length along y", "m", default=0.008, **_POS,
            scenes="surface", indenters=("cylinder",), sweep=True, json="length_m",
-           default_text="0.008: the paper's cover slide"),
+           default_text="0.008: the paper's cover slide", practice=(1e-5, 1.0)),
     Option("radius_x", "the paraboloid's radius along x, the sliding direction", "m", **_POS,
            scenes="surface", indenters=("paraboloid",), sweep=True, json="radius_x_m",
            default_text="--radius"),

@@ -85,8 +85,7 @@ SHAPE_RATIO_MIN, SHAPE_RATIO_MAX = 1e-6, 1e6
 subnormal length divided by zero, a subnormal radius_x never converged."""
 
 
-SOFT_CONTACT_RANGES = {"young": (1e3, 1e9, "Pa"), "thickness": (1e-6, 0.1, "m"),
-                       "radius": (1e-6, 10.0, "m"), "length": (1e-5, 1.0, "m")}
+SOFT_CONTACT_RANGES = {o.name: (*o.practice, o.unit) for o in _options.OPTIONS if o.practice}
 """Soft-contact practice (elastomer films, gels, skin): E from 1 kPa to 1 GPa, films from 1 um
 to 10 cm, indenter radii from 1 um to 10 m, cylinder lengths from 10 um to 1 m.  A value
 outside is accepted (the model is scale-free) with one warning: it is most often a units slip
@@ -116,15 +115,15 @@ def _warn_units(scene) -> None:
 def _check_law_scales(scene) -> None:
     """The friction law's stresses within LAW_SCALE_MAX of the stress unit (tau_0 may be 0)."""
     law, unit = scene.friction, scene.stress_unit
-    for value, name, opt in ((law.pref, "friction pref (p_ref)", "--friction-pref"),
-                             (law.shear_strength, "shear strength (tau_0)", "--shear-strength")):
-        if value is None or (value == 0.0 and opt == "--shear-strength"):
+    for value, name, symbol in ((law.pref, "friction_pref", "p_ref"),
+                                (law.shear_strength, "shear_strength", "tau_0")):
+        if value is None or (value == 0.0 and name == "shear_strength"):
             continue
         ratio = abs(value) / unit
         if not 1.0 / LAW_SCALE_MAX <= ratio <= LAW_SCALE_MAX:
-            raise InputError(f"{name} = {value:g} Pa is out of range: |value| / (E h/(6R) = "
-                             f"{unit:.3g} Pa) = {ratio:.3g} must be in [{1 / LAW_SCALE_MAX:g}, "
-                             f"{LAW_SCALE_MAX:g}] ({opt})")
+            raise InputError(f"{named(name)} ({symbol}) = {value:g} Pa is out of range: |value| / "
+                             f"(E h/(6R) = {unit:.3g} Pa) = {ratio:.3g} must be in "
+                             f"[{1 / LAW_SCALE_MAX:g}, {LAW_SCALE_MAX:g}]")
 
 
 @dataclass(frozen=True)

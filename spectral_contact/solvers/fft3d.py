@@ -38,7 +38,7 @@ import time
 import numpy as np
 
 from ..errors import ConvergenceError, InputError
-from ..numerics.contact import nested_guess, refine_nested, solve_complementarity, solve_contact
+from ..numerics.contact import nested_guess, solve_complementarity, solve_contact
 from ..numerics.fft import get_rfft, planning_time
 from ..numerics.friction import solve_contact_law
 from ..numerics.grid import Grid, pow2_at_least
@@ -47,7 +47,7 @@ from ..numerics.open_domain import box_of, open_compliance_operator, open_grid
 from ..physics.film import Film
 from ..physics.friction import ShearLaw
 from ..physics.scene import Scene3D, check_positive
-from ..physics.transfer import F2, compressible_tangential_function, tanh_over
+from ..physics.transfer import F2, compressible_tangential_function, tanh_over, transfer_functions
 from ..result import ContactResult3D
 from .base import check_grid_points
 
@@ -336,9 +336,15 @@ def _multipliers(film: Film, grid, mu):
     if out is not None:
         return out
     K = grid.kmag
-    A, iB, iBp, C, T = film.base_coefficients(K)
-    F0, F1 = film._F0_F1(K)
     Kh = K * film.thickness
+    if film.incompressible:  # one evaluation of the five transfer functions
+        F0, F1, A, B, C = transfer_functions(Kh)
+        iB = iBp = 1j * B
+        e = np.exp(-np.abs(Kh))
+        T = 2.0 * e / (1.0 + e * e)  # sech K (Film's)
+    else:
+        A, iB, iBp, C, T = film.base_coefficients(K)
+        F0, F1 = film._F0_F1(K)
     F2_ = F2(Kh) if film.incompressible else compressible_tangential_function(Kh, film.poisson)
     pos = K > 0
     inv2k = np.where(pos, 0.5 / np.where(pos, K, 1.0), 0.0)
@@ -508,7 +514,7 @@ def _solve_open(scene, model, tol, film, ind, mu, c, accept, margin, progress, t
         if progress:
             progress(f"open box level {len(history) + 1}: {shape[0]} x {shape[1]} box, "
                      f"{time.perf_counter() - t0:.1f} s")
-        p_init = refine_nested(prev.pressure) if prev is not None else None
+        p_init = nested_guess(prev, g) if prev is not None else None
         cur = count(_open_contact(g, ind, mu, film, c, accept, p_init))
         if _touches_box(cur):
             raise ConvergenceError(f"the open box ({box[0]:.3g} x {box[1]:.3g} h) does not hold "
@@ -551,6 +557,9 @@ def _solve_open(scene, model, tol, film, ind, mu, c, accept, margin, progress, t
         "extent_note": "contact x and y extents are envelopes of edges fitted along grid lines "
                        "(a few hundredths of a cell); not controlled by tol: their level "
                        "difference is extent_error_estimate",
+        "final_level_active_set_iterations": sol.iterations,
+        "final_level_krylov_iterations": sol.krylov_iterations,
+        "final_level_fft_pairs": sol.fft_pairs - sol.coarse_fft_pairs,
         "open_box": True,
         "open_box_note": "a contact much smaller than h: solved on an open (non-periodic) box "
                          f"of {box[0]:.4g} x {box[1]:.4g} h around it (the film's kernel in real "
