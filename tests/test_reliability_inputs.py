@@ -197,3 +197,14 @@ def test_surface_maps_clip_singular_ends_and_show_the_line_y0():
     titles = [a.get_title() for a in fig.axes]
     assert any(t.startswith("the line y = ") for t in titles)
     assert sum(a.get_ylabel() == "kPa" for a in fig.axes) == 7  # a colour bar per map
+
+
+def test_surface_solves_log_their_levels(caplog):
+    """A surface solve tells the progress log its levels (the command line shows them on a
+    terminal once past 2 s; they printed nothing before)."""
+    import logging
+
+    with caplog.at_level(logging.INFO, logger="spectral_contact"):
+        solve(indenter="sphere", force=1.0, tol=1e-2)
+    assert any("level 1:" in r.getMessage() and r.name == "spectral_contact.solvers.fft3d"
+               for r in caplog.records)

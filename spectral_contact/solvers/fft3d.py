@@ -32,6 +32,7 @@ Memory is estimated before any allocation; a scene that would not fit is refused
 from __future__ import annotations
 
 import dataclasses
+import logging
 import math
 import os
 import time
@@ -163,7 +164,8 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
           peak pressure.
     grid_points : fix (nx, ny) (or one N for both) instead of refining from ``tol``;
     domain_length : fix the periods (Lx, Ly) [in h].
-    progress : optional callable(str), told about each level.
+    progress : optional callable(str), told about each level (default: the INFO log of this
+        module, which the command line shows on a terminal once a command passes 2 s).
     """
     t0 = time.perf_counter()
     plans0 = planning_time()
@@ -175,6 +177,8 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     P = scene.P
     mu_contact = scene.mu if model == "exact" else 0.0
     ind = scene.indenter_object()
+    if progress is None:  # issue 24: surface solves of 5-14 s printed nothing
+        progress = logging.getLogger(__name__).info
     margin = film.domain_margin(tol)
     accept = max(1e-8, 1e-2 * tol)
     counters = {"transforms": 0, "iterations": 0, "linear_iterations": 0}
