@@ -89,7 +89,8 @@ class PartialSlipOperator:
 
     def __init__(self, grid: Grid, film: Film | None = None):
         if grid.ndim != 1:
-            raise NotImplementedError("partial slip: line contacts (1D grids) only")
+            raise ValueError("PartialSlipOperator takes 1D grids (line contacts); 2D grids: "
+                             "numerics.partial_slip2d")
         self.grid = grid
         self.film = film or Film()
         self.fft = get_rfft(grid.shape)

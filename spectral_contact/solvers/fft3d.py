@@ -357,21 +357,9 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     total = time.perf_counter() - t0
     plan_time = planning_time() - plans0
     info = {
-        "levels": [(s, h["area"], h["x_min"], h["x_max"], h["indentation"], h["pmax"])
-                   for s, h in history],
-        "residuals": sol.residuals,
-        "domain_margin": margin,
-        "load_on_grid": q["load"],
-        "extent_error_estimate": extent_est,
+        **_solve_info(history, sol, margin, q, extent_est),
         **({"deformation_friction": mu_def + 0.0} if getattr(scene, "viscoelastic", False) else {}),
         **({"tail_length": film.tail_length} if visco else {}),
-        "extent_note": "contact x and y extents are envelopes of edges fitted along grid lines "
-                       "(a few hundredths of a cell); not controlled by tol: their level "
-                       "difference is extent_error_estimate",
-        # the finest grid's own work (its nested start's coarser grids excluded), issue 25
-        "final_level_active_set_iterations": sol.iterations,
-        "final_level_krylov_iterations": sol.krylov_iterations,
-        "final_level_fft_pairs": sol.fft_pairs - sol.coarse_fft_pairs,
     }
     x, y = sol.grid.axes
     return ContactResult3D(
@@ -382,6 +370,25 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
         wall_time_s=total - plan_time, plan_time_s=plan_time, info=info, counters=counters,
         shear=None if scene.friction.is_amontons else shear[0])
 
+
+
+def _solve_info(history, sol, margin, q, extent_est) -> dict:
+    """The ``info`` entries every 3D solve reports (periodic grid or open box)."""
+    return {
+        "levels": [(s, h["area"], h["x_min"], h["x_max"], h["indentation"], h["pmax"])
+                   for s, h in history],
+        "residuals": sol.residuals,
+        "domain_margin": margin,
+        "load_on_grid": q["load"],
+        "extent_error_estimate": extent_est,
+        "extent_note": "contact x and y extents are envelopes of edges fitted along grid lines "
+                       "(a few hundredths of a cell); not controlled by tol: their level "
+                       "difference is extent_error_estimate",
+        # the finest grid's own work (its nested start's coarser grids excluded), issue 25
+        "final_level_active_set_iterations": sol.iterations,
+        "final_level_krylov_iterations": sol.krylov_iterations,
+        "final_level_fft_pairs": sol.fft_pairs - sol.coarse_fft_pairs,
+    }
 
 _MULTIPLIERS: dict = {}  # (film, shape, lengths, mu) -> the output fields' multipliers
 _MULTIPLIER_POINTS = 2**21  # kept only for grids up to this many points (6 complex arrays)
@@ -611,18 +618,7 @@ def _solve_open(scene, model, tol, film, ind, mu, c, accept, margin, progress, t
     total = time.perf_counter() - t0
     plan_time = planning_time() - plans0
     info = {
-        "levels": [(s, h["area"], h["x_min"], h["x_max"], h["indentation"], h["pmax"])
-                   for s, h in history],
-        "residuals": sol.residuals,
-        "domain_margin": margin,
-        "load_on_grid": q["load"],
-        "extent_error_estimate": extent_est,
-        "extent_note": "contact x and y extents are envelopes of edges fitted along grid lines "
-                       "(a few hundredths of a cell); not controlled by tol: their level "
-                       "difference is extent_error_estimate",
-        "final_level_active_set_iterations": sol.iterations,
-        "final_level_krylov_iterations": sol.krylov_iterations,
-        "final_level_fft_pairs": sol.fft_pairs - sol.coarse_fft_pairs,
+        **_solve_info(history, sol, margin, q, extent_est),
         "open_box": True,
         "open_box_note": "a contact much smaller than h: solved on an open (non-periodic) box "
                          f"of {box[0]:.4g} x {box[1]:.4g} h around it (the film's kernel in real "
