@@ -86,7 +86,7 @@ from .inverse_forward import (  # noqa: F401  (re-exported)
     base_from_tractions,
 )
 from .inverse_laws import fit_laws
-from .inverse_prior import fit_contact, propagate
+from .inverse_prior import TIE_MU_PART, fit_contact, propagate
 from .inverse_result import LineInversion
 
 __all__ = ["invert", "read_record", "invert_line", "LineInversion", "LineForward", "fit_laws",
@@ -118,10 +118,9 @@ def _regularisation(prior, theta, free, scale, h, hyper):
                 "window_m": [float(c - w0), float(c + w0)] if free[0] else None,
                 "amplitude_p_Pa": float(e(theta[2]) * scale), "length_p_m": float(e(theta[3]) * h),
                 "mu0": float(theta[4]),
-                "amplitude_mu_part_Pa": float(e(theta[5]) * scale),
+                "amplitude_mu_part_Pa": float(e(theta[2] if TIE_MU_PART else theta[5]) * scale),
                 "length_mu_part_m": float(e(theta[6]) * h),
-                "amplitude_step_part_Pa": float(e(theta[7]) * scale),
-                "length_step_part_m": float(e(theta[8]) * h),
+                "amplitude_step_part_Pa": float(e(theta[2]) * scale),
                 "nugget_Pa": float(e(theta[9]) * scale),
                 "chosen_by": "maximum evidence (marginal likelihood)",
                 "hyperparameter_uncertainty": ("propagated (Laplace over the log-hyperparameters)"
