@@ -140,6 +140,25 @@ def _regularisation(prior, theta, free, scale, h, hyper):
             "hyperparameter_uncertainty": "not propagated"}
 
 
+BIN_STEP_H = 1.0 / 32.0
+"""Records sampled finer than this [h] are averaged in consecutive groups of k samples (k the
+largest with k dx <= BIN_STEP_H h) before the inversion: for white noise the group means carry
+the same information (sd sigma / sqrt k) as long as the forward map is linear across a group,
+and the film's responses vary on h, not on h/32 (the tail of fewer than k samples at the end is
+dropped).  The cost then does not grow with the number of samples beyond that."""
+
+
+def _bin(x, zz, xz, step):
+    """(x, zz, xz, k): group means of k consecutive samples (k = 1: unchanged)."""
+    dx = (x[-1] - x[0]) / (x.size - 1)
+    k = int(step // dx)
+    if k < 2 or x.size // k < 8:
+        return x, zz, xz, 1
+    n = (x.size // k) * k
+    return (x[:n].reshape(-1, k).mean(axis=1), zz[:n].reshape(-1, k).mean(axis=1),
+            xz[:n].reshape(-1, k).mean(axis=1), k)
+
+
 def _window_interval(theta, sig, idx, h, known):
     """The contact prior's window [c - w0, c + w0] [m] and the sd of its two edges from the
     Laplace covariance of (c, log w0) (NaN where not propagated or at a bound; 0 if known)."""
@@ -210,6 +229,8 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
         if not (math.isfinite(a) and math.isfinite(b) and b > a):
             raise InputError(f"support must be an interval (a, b) with b > a [m]; got {support}")
         sup_h = (a / h, b / h)
+    points = x.size
+    x, dz, dxz, nbin = _bin(x, dz, dxz, BIN_STEP_H * h)
     scale = max(float(np.max(np.abs(dz))), float(np.max(np.abs(dxz))))
     xh = x / h
     film = Film(1.0, nu)
@@ -279,8 +300,10 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
            "resolution_length_m": res_len,
            "regularisation": _regularisation(prior, theta, free, scale, h, hyper),
            "log_evidence": float(logev - 2 * x.size * math.log(scale)),
-           "noise_sd_zz_Pa": float(nz * scale), "noise_sd_xz_Pa": float(nx * scale),
-           "view": view, "points": int(x.size), "nodes": int(m), "positive": bool(positive),
+           "noise_sd_zz_Pa": float(nz * scale * math.sqrt(nbin)),
+           "noise_sd_xz_Pa": float(nx * scale * math.sqrt(nbin)),
+           "view": view, "points": int(points), "binned_by": int(nbin), "nodes": int(m),
+           "positive": bool(positive),
            "support_m": None if support is None else [float(s) for s in support],
            "resolved_rule": f"mu_local where p > {RESOLVED_Z:g} sd(p)",
            "thickness_m": h, "poisson": nu, "laws": laws}
