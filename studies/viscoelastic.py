@@ -163,7 +163,7 @@ def part_reference(quick: bool, out, t0) -> list[dict]:
         P = 2.0 * math.pi * ah * ah
         V = lr * FILM["thickness"] / (2.0 * TAU)  # tau_r = 2 tau
         s = Scene(load=P * base.stress_unit * base.length_unit, mu=0.0, speed=V, prony=SLS, **FILM)
-        r = solve(s, tol=tol)
+        r = solve(s, tol=tol if ah >= 0.01 else 1e-3)  # (a/h < 0.01 at 1e-4: > 2^22 points)
         h = hunter_contact(P, 0.5, lr)
         a, c = h["a"], h["c"]
         mu_h = h["centroid"] * FILM["thickness"] / FILM["radius"]
@@ -172,7 +172,8 @@ def part_reference(quick: bool, out, t0) -> list[dict]:
                "da_over_a": (r.half_width - a) / a, "dxc_over_xc": (r.center - c) / c,
                "dxc_over_a": (r.center - c) / a,
                "dmu_over_mu": (r.deformation_friction - mu_h) / mu_h,
-               "error_estimate": r.error_estimate, "grid_points": r.grid_points}
+               "tol": tol if ah >= 0.01 else 1e-3, "error_estimate": r.error_estimate,
+               "grid_points": r.grid_points}
         if ah == 0.01 and lr <= 0.14:  # the collocation against the closed form
             o = sls_halfspace_contact(P, 0.5, lr, n=700 if quick else 1500)
             row.update({"colloc_da_over_a": (o["a"] - a) / a, "colloc_dxc_over_a": (o["c"] - c) / a,
@@ -191,9 +192,8 @@ def _changes(r, el) -> dict:
     szz = np.interp(el.x, r.x, r.base_sigma_zz, period=r.domain_length)
     sxz = np.interp(el.x, r.x, r.base_sigma_xz, period=r.domain_length)
     return {"d_a": abs(r.half_width / a - 1.0), "d_x0": abs(r.x0 - el.x0) / a,
-            # Q/P = mu + mu_def on both films (the elastic record's Q_over_P is mu alone; its
-            # geometric term (h/R) x_p is ContactResult.deformation_friction)
-            "d_Q_over_P": abs(r.Q_over_P / (el.friction_ratio + el.deformation_friction) - 1.0),
+            # Q/P = mu + mu_def on both films (one definition: ContactResult.Q_over_P)
+            "d_Q_over_P": abs(r.Q_over_P / el.Q_over_P - 1.0),
             "d_base_zz": float(np.max(np.abs(szz - el.base_sigma_zz)) / np.max(np.abs(el.base_sigma_zz))),
             "d_base_xz": float(np.max(np.abs(sxz - el.base_sigma_xz)) / np.max(np.abs(el.base_sigma_xz)))}
 

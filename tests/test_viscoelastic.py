@@ -1,4 +1,5 @@
-"""Viscoelastic (Prony series) film in steady sliding (issue 23): limits, signs, mirror, equilibrium, --speed 0 bit for bit, CLI refusals.
+"""Viscoelastic (Prony series) film in steady sliding (issue 23): limits, signs, mirror,
+equilibrium, --speed 0 bit for bit, CLI refusals, Q_over_P on every film.
 (The half-space reference, Hunter's closed form: tests/test_hunter.py.)"""
 import json
 import math
@@ -229,3 +230,25 @@ def test_sphere_signs_mirror_equilibrium(sign):
         assert abs(q["xc"] + m.measures["xc"]) / m.contact_radius < tol
         assert d["deformation_friction"] == pytest.approx(-m.summary()["deformation_friction"],
                                                           rel=5e-2)
+
+
+def test_q_over_p_one_definition_for_every_film():
+    """Q_over_P = mu + mu_def on elastic and viscoelastic films, lines and surfaces; mu_def
+    = Int p df/dx / P recomputed from the SI profiles (f = x^2/2R: df/dx = x/R), signed like
+    mu (the mirror flips it), zero without friction on the elastic film."""
+    for mu in (2.0, -2.0, 0.0):
+        r = solve(load=200.0, mu=mu, tol=TOL)
+        d = r.to_dict()
+        p, x = r.pressure_Pa, r.x_m
+        mu_def = float(np.sum(p * x) / np.sum(p)) / d["radius_m"]
+        assert d["deformation_friction"] == pytest.approx(mu_def, rel=1e-3, abs=1e-9)
+        assert d["Q_over_P"] == d["mu"] + d["deformation_friction"]
+        if mu == 0.0:
+            assert abs(d["deformation_friction"]) < 1e-9
+        else:  # the paper's scene: (h/R) x_p = 0.0118 (studies/README, viscoelastic)
+            assert math.copysign(1.0, mu) * d["deformation_friction"] == pytest.approx(0.0118, rel=0.02)
+    s = solve(indenter="sphere", force=1.0, mu=0.5, tol=1e-2).summary()
+    assert s["Q_over_P"] == pytest.approx(0.5 + s["deformation_friction"], rel=1e-12)
+    assert s["deformation_friction"] == pytest.approx(
+        s["pressure_centroid_x_m"] / s["radius_m"], rel=0.05)
+    assert s["deformation_friction"] > 0
