@@ -165,7 +165,7 @@ def main(argv=None) -> int:
           f"(central 70 % / whole contact), P and Q z-scores")
     # 2. noise and feature size
     sweep = []
-    s2 = 1 if args.quick else 5
+    s2 = 1 if args.quick else 3
     for view in ("base", "sensor"):
         for noise in ((0.01,) if args.quick else (0.003, 0.01, 0.03)):
             for seed in range(s2):

@@ -241,7 +241,7 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
         m = fwd.nodes.size
         _, (mean, cov, H) = ev.evaluate(theta, full=True)
         if hyper:
-            cov, sig_theta, hyper_idx = propagate(ev, theta, free, mean, cov)
+            mean, cov, sig_theta, hyper_idx = propagate(ev, theta, free, mean, cov)
         nz, nx = np.exp(theta[10:12])
     else:
         fwd = LineForward.build(xh, film, symbols, support=sup_h)
