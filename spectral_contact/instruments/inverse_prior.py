@@ -441,9 +441,13 @@ the tractions are zero beyond (the contact prior's own statement, bar its nugget
 
 
 def fit_contact(xh, film, symbols, zs, xs, support=None):
-    """Two passes: coarse nodes over the record +- MARGIN_H (the window's search, three starts),
-    then fine nodes on the window +- EDGE_SPAN_H from the first pass's optimum.  Returns
-    (forward map, ContactPrior, theta, log-evidence, free mask)."""
+    """Two passes: coarse nodes over the record +- MARGIN_H (the window's search, three starts,
+    an edge scan), then fine nodes on the window +- EDGE_SPAN_H from the first pass's optimum,
+    an edge scan, and ``MODE_STARTS``: the evidence can have two maxima of nearly equal height,
+    one with a rigid p (l_p at its bound) and the shape's detail put in the varying-mu part, one
+    with a flexible p and a smooth mu (the data do not tell them apart); every distinct maximum
+    within ``MODE_NATS`` of the best is returned, for ``invert_line`` to mix by evidence.
+    Returns (forward map, ContactPrior, [(theta, log-evidence), ...] best first, free mask)."""
     from .inverse_forward import MARGIN_H, LineForward
 
     if support is not None:
@@ -451,7 +455,12 @@ def fit_contact(xh, film, symbols, zs, xs, support=None):
                                 step=min(FINE_STEP_H, (support[1] - support[0]) / 8))
         ev = ContactPrior(fwd, zs, xs, known=True)
         th, le, free = optimise_contact(ev, zs, xs)
-        return fwd, ev, th, le, free
+        modes = [(th, le)]
+        for lp in MODE_STARTS:
+            t = th.copy()
+            t[3] = math.log(lp)
+            modes.append(optimise_contact(ev, zs, xs, start=t)[:2])
+        return fwd, ev, _distinct(modes), free
     fwd = LineForward.build(xh, film, symbols, step=COARSE_STEP_H)
     ev = ContactPrior(fwd, zs, xs)
     th, le, free = optimise_contact(ev, zs, xs, gtol=1e-2, starts=PASS1_STARTS)
@@ -467,4 +476,30 @@ def fit_contact(xh, film, symbols, zs, xs, support=None):
         if v2 <= le + 0.01:
             break
         th, le, free = optimise_contact(ev, zs, xs, start=t2)
-    return fwd, ev, th, le, free
+    modes = [(th, le)]
+    for lp in MODE_STARTS:
+        t = th.copy()
+        t[3] = math.log(lp)
+        modes.append(optimise_contact(ev, zs, xs, start=t)[:2])
+    return fwd, ev, _distinct(modes), free
+
+
+MODE_STARTS = (1.0, 20.0)
+"""l_p [h] from which the second pass is started again (a flexible and a rigid p)."""
+MODE_NATS = 5.0
+"""Maxima of the evidence this far below the best (weight e^-5 < 1 %) are dropped."""
+
+
+def _distinct(modes):
+    """Distinct maxima (window edges apart by > 0.01 h or l_p by > 5 %, or evidence by > 0.01),
+    within MODE_NATS of the best, best first."""
+    modes = sorted(modes, key=lambda m: -m[1])
+    out = []
+    for th, le in modes:
+        if le < modes[0][1] - MODE_NATS:
+            continue
+        same = any(abs(le - l2) < 0.01 and abs(th[0] - t2[0]) < 0.01 and abs(th[1] - t2[1]) < 0.01
+                   and abs(th[3] - t2[3]) < 0.05 for t2, l2 in out)
+        if not same:
+            out.append((th, le))
+    return out
