@@ -391,21 +391,13 @@ def _solve_info(history, sol, margin, q, extent_est) -> dict:
     }
 
 _MULTIPLIERS: dict = {}  # (film, shape, lengths, mu) -> the output fields' multipliers
-_MULTIPLIER_POINTS = 2**21  # kept only for grids up to this many points (6 complex arrays)
+_MULTIPLIER_BYTES = 2**28  # the cache's budget: 256 MB (2048^2 with mu given: 6 complex
+# arrays of 2048 x 1025, 202 MB, the only entry; 1024^2: 50 MB each).  Measured: their
+# evaluation at 2048^2 cost ~12 FFT-pair times of the grid, each solve, when not kept
 
 
-def _multipliers(film: Film, grid, mu):
-    """Per-mode multipliers of the output fields (``_output_fields``): with t^ = mu p^
-    (``mu`` given) six arrays M with field^ = M p^; otherwise the pairs (M_p, M_t) with
-    field^ = M_p p^ + M_t t^.  Averaged over the two aliases on the Nyquist plane of the
-    first axis (``Grid.alias_average``; the last axis's is the real transform's).  Cached per
-    film, grid shape, periods and mu for the next solve on that grid (issue 25: a sweep over
-    forces or friction on one grid; their evaluation cost ~20 FFT pairs at 512^2)."""
-    key = (film, grid.shape, grid.lengths, mu)
-    out = _MULTIPLIERS.get(key)
-    if out is not None:
-        return out
-    K = grid.kmag
+def _radial_coefficients(film: Film, K):
+    """The output fields' coefficients that depend on |k| only (``_multipliers``)."""
     Kh = K * film.thickness
     if film.incompressible:  # one evaluation of the five transfer functions
         F0, F1, A, B, C = transfer_functions(Kh)
@@ -424,6 +416,39 @@ def _multipliers(film: Film, grid, mu):
     d0 = F0 * inv2k
     if not film.incompressible:
         d0 = d0 + np.where(pos, 0.0, film.uniform_compliance)
+    return A, iB, iBp, C, T, cL, cT, iF1, d0
+
+
+def _even_in_kx(fn, K):
+    """fn(K) (a tuple of arrays, elementwise in K) on the half spectrum's |k| (shape kshape, the
+    first axis in fftfreq order), evaluated on the rows k_x >= 0 only and mirrored: |k| of row
+    n - i is |k| of row i bit for bit (fftfreq's values are exact negatives), so the result is
+    fn(K)'s, at half the cost (issue 25: the transfer functions were ~1/3 of the outputs' time
+    at 2048^2)."""
+    n = K.shape[0]
+    m = n // 2 + 1
+    if K.ndim != 2 or n < 4:
+        return fn(K)
+    out = []
+    for h in fn(K[:m]):
+        h = np.broadcast_to(h, (m,) + K.shape[1:])
+        out.append(np.concatenate([h, h[1:n - m + 1][::-1]]))
+    return tuple(out)
+
+
+def _multipliers(film: Film, grid, mu):
+    """Per-mode multipliers of the output fields (``_output_fields``): with t^ = mu p^
+    (``mu`` given) six arrays M with field^ = M p^; otherwise the pairs (M_p, M_t) with
+    field^ = M_p p^ + M_t t^.  Averaged over the two aliases on the Nyquist plane of the
+    first axis (``Grid.alias_average``; the last axis's is the real transform's).  Cached per
+    film, grid shape, periods and mu for the next solve on that grid (issue 25: a sweep over
+    forces or friction on one grid; their evaluation cost ~20 FFT pairs at 512^2)."""
+    key = (film, grid.shape, grid.lengths, mu)
+    out = _MULTIPLIERS.get(key)
+    if out is not None:
+        return out
+    A, iB, iBp, C, T, cL, cT, iF1, d0 = _even_in_kx(lambda K: _radial_coefficients(film, K),
+                                                    grid.kmag)
 
     def pairs(nx, ny, sl):
         """(M_p, M_t) of szz, sxz, syz, ux, uy, delta on the modes ``sl``."""
@@ -449,9 +474,12 @@ def _multipliers(film: Film, grid, mu):
         out = tuple(mp + mu * mt for mp, mt in ms)
     else:
         out = tuple(tuple(m) for m in ms)
-    if grid.size <= _MULTIPLIER_POINTS:
-        if len(_MULTIPLIERS) >= 4:
-            _MULTIPLIERS.clear()
+    size = sum(m.nbytes for m in (out if mu is not None else sum(out, ())))
+    if size <= _MULTIPLIER_BYTES:
+        while _MULTIPLIERS and size + sum(m.nbytes for v in _MULTIPLIERS.values() for m in
+                                          (v if isinstance(v[0], np.ndarray) else sum(v, ()))
+                                          ) > _MULTIPLIER_BYTES:
+            del _MULTIPLIERS[next(iter(_MULTIPLIERS))]  # the oldest first
         _MULTIPLIERS[key] = out
     return out
 
