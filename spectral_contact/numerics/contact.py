@@ -61,12 +61,13 @@ _EDGE_REACH = 0.15  # nested first set: the fine nodes within this many cells be
 _EDGE_REACH_2D = 0.15  # (the same in 2D, along rows and columns: see nested_guess)
 _EXTRAP_WEIGHT = 0.7  # the cold start's shrinking steps extrapolate the edges (_shrunk_ends)
 _EXTRAP_STEPS = 3  # this many times at most (then plain steps: they cannot cycle through them)
-_RELEASE_REACH = 2  # 2D: a step that sheds tensile nodes also sheds the active nodes that the
-# release would turn tensile, predicted from the grid's own compliance on the (2r+1)^2 nodes
-# around each shed node (_released_tensile; issue 25).  Measured (sliding sphere mu 1, the
-# public solve at 2048^2, the finest grid's first step: 34 nodes shed, 2 of their neighbours at
-# p = +1.3e-3 p_max turned tensile, -7.5e-4, on the next solve: a third step): predicted within
-# 2e-5 p_max of the next solve's pressures at r = 2, 3 and 4 (r = 2: 5 x 5 patches)
+_RELEASE_REACH = 2  # 2D: a step that sheds tensile nodes also sheds the nodes that the
+# release (and the step's added nodes) would turn tensile, predicted from the grid's own
+# compliance on the (2r+1)^2 nodes around each changed node (_released_tensile; issue 25).
+# Measured (sliding sphere mu 1, the public solve at 2048^2, the finest grid's first step: 34
+# nodes shed, 2 of their neighbours at p = +1.3e-3 p_max turned tensile, -7.5e-4, on the next
+# solve: a third step): predicted within 2e-5 p_max of the next solve's pressures at r = 2, 3
+# and 4 (r = 2: 5 x 5 patches)
 _RELEASE_STEPS = 3  # this many steps at most (then plain steps, as _EXTRAP_STEPS)
 _RELEASE_ROUNDS = 3  # predicted tensile nodes are released in turn this many times at most
 _SET_EDGE = 0.5  # a set's continuum edge, in cells beyond its end node.  Measured (cold, rtol
@@ -310,7 +311,8 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         else:
             new = ((active & (p >= 0)) | (~active & (gap < 0))) & can_touch
             if release and (active & (p < 0)).any():
-                more = _released_tensile(active & ~new, new, p, shape, _release_kernel(op, nfft))
+                more = _released_tensile(active & ~new, new, p, shape, _release_kernel(op, nfft),
+                                         added=new & ~active, gap=gap)
                 if more is not None:
                     release -= 1
                     extrapolated = True  # (a cycle through it: the union, as extrapolated steps)
@@ -443,18 +445,21 @@ def _release_kernel(op: FourierOperator, nfft: list) -> np.ndarray:
 
 
 def _released_tensile(shed: np.ndarray, keep: np.ndarray, p: np.ndarray, shape: tuple,
-                      kern: np.ndarray):
+                      kern: np.ndarray, added: np.ndarray | None = None,
+                      gap: np.ndarray | None = None):
     """2D: the nodes of ``keep`` (the next active set, flat) that releasing the tensile nodes
     ``shed`` (flat, p < 0 there, to p = 0) would turn tensile (None when none would).
 
     A released node no longer pulls the surface to the indenter; its active neighbours carry
-    the difference.  Around each released node c, on the (2r+1)^2 nodes within r =
-    _RELEASE_REACH cells, the kept nodes' pressures change by dp with zero change of their
-    sinking: K_kk dp_k = K_ks p_s (K the grid's nodal compliance ``kern``, s the released nodes
-    there; the nodes beyond the patch and the indentation held).  A node covered by several
-    patches takes the prediction of the one whose centre is nearest.  Nodes predicted p + dp <
-    0 are released in turn (_RELEASE_ROUNDS times at most).  Only the path changes: the next
-    solve checks every node as before."""
+    the difference (and a node ``added`` with gap < 0 takes load from them as its gap closes).
+    Around each released or added node c, on the (2r+1)^2 nodes within r = _RELEASE_REACH
+    cells, the pressures of the next set's nodes u change by dp with their sinking changed by
+    dw_u = 0 (kept nodes) or -gap_u (added nodes): K_uu dp_u = dw_u + K_us p_s (K the grid's
+    nodal compliance ``kern``, s the released nodes there; the nodes beyond the patch and the
+    indentation held).  A node covered by several patches takes the prediction of the one whose
+    centre is nearest.  Nodes predicted p + dp < 0 are released in turn, or not added
+    (_RELEASE_ROUNDS times at most).  Only the path changes: the next solve checks every node
+    as before."""
     nx, ny = shape
     r = _RELEASE_REACH
     o = np.arange(-r, r + 1)
@@ -463,22 +468,30 @@ def _released_tensile(shed: np.ndarray, keep: np.ndarray, p: np.ndarray, shape: 
     K = kern[(ox[:, None] - ox[None, :]) + 2 * r, (oy[:, None] - oy[None, :]) + 2 * r]
     ring = np.maximum(np.abs(ox), np.abs(oy))
     eye = np.eye(ox.size)
+    if added is None or not added.any():
+        added, dw_all = np.zeros(p.size, dtype=bool), None
+    else:
+        dw_all = np.where(added, -gap, 0.0)
     extra = np.zeros(p.size, dtype=bool)
     found = False
     for _ in range(_RELEASE_ROUNDS):
         released = shed | extra
         kept = keep & ~extra
-        cx, cy = np.divmod(np.flatnonzero(released), ny)
+        cx, cy = np.divmod(np.flatnonzero(released | added), ny)
         nodes = ((cx[:, None] + ox) % nx) * ny + (cy[:, None] + oy) % ny  # [centre, offset]
         k = kept[nodes]
         src = np.where(released[nodes], p[nodes], 0.0)
+        rhs = src @ K.T
+        if dw_all is not None:
+            rhs += dw_all[nodes]
         A = np.where(k[:, :, None] & k[:, None, :], K, 0.0) + np.where(k, 0.0, 1.0)[:, :, None] * eye
-        dp = np.linalg.solve(A, np.where(k, src @ K.T, 0.0)[:, :, None])[:, :, 0]
+        dp = np.linalg.solve(A, np.where(k, rhs, 0.0)[:, :, None])[:, :, 0]
         # each kept node once, from its nearest centre
         flat, dist, pred = nodes[k], np.broadcast_to(ring, k.shape)[k], (p[nodes] + dp)[k]
         order = np.lexsort((dist, flat))
         first = np.unique(flat[order], return_index=True)[1]
-        tensile = flat[order][first][pred[order][first] < 0]
+        pick = flat[order][first]
+        tensile = pick[pred[order][first] < 0]
         if not tensile.size:
             break
         extra[tensile] = True
