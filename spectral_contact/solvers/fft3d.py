@@ -248,17 +248,9 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
         # a small contact (issue 24): cells sized from the contact on an open box
         return _solve_open(scene, model, tol, film, ind, mu_contact, c, accept, margin,
                            progress, t0, plans0, counters)
-    _check_size(n0, "locating the contact")
-    if progress:
-        progress(f"locating the contact on a {n0[0]} x {n0[1]} grid")
-    sol = count(contact(Grid.centered(n0, L0), locator=True))
-    q = _measure(sol, ind)
-
-    # 2. the periods: the contact plus the decay margin, centred on the contact
-    width_x = q["x_max"] - q["x_min"]
-    width_y = q["y_max"] - q["y_min"]
-    if domain_length is not None:
-        # a user period must hold the contact plus the decay of its images to tol/2
+    def check_period(q):
+        """A user period must hold the contact plus the decay of its images to tol/2."""
+        width_x, width_y = q["x_max"] - q["x_min"], q["y_max"] - q["y_min"]
         free = math.log(2.0 / tol) / film.decay_rate
         need = (width_x + free, width_y + free)
         if any(L < n for L, n in zip(domain_length, need)):
@@ -267,10 +259,28 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
                 f"for this contact at tol {tol:g}: the periods must hold the contact "
                 f"({width_x:.3g} x {width_y:.3g} h) plus {free:.3g} h for its images to decay "
                 f"below tol/2: at least ({need[0]:.4g}, {need[1]:.4g}) h, or leave it automatic")
-    guard = 4.0 * max(sol.grid.spacing)
-    margin_y = Film.domain_margin(film, tol) if visco else margin  # the tail is along x
-    L = domain_length or (width_x + margin + guard, width_y + margin_y + guard)
-    center = (0.5 * (q["x_max"] + q["x_min"]), 0.0) if domain_length is None else (0.0, 0.0)
+
+    # a user grid on a user period (issue 25): no locator, whose contact would only be checked
+    # against the period (~4-6 FFT-pair times of 512^2); the first level's contact is
+    fixed_box = bool(grid_points) and domain_length is not None
+    if fixed_box:
+        L, center = domain_length, (0.0, 0.0)
+    else:
+        _check_size(n0, "locating the contact")
+        if progress:
+            progress(f"locating the contact on a {n0[0]} x {n0[1]} grid")
+        sol = count(contact(Grid.centered(n0, L0), locator=True))
+        q = _measure(sol, ind)
+
+        # 2. the periods: the contact plus the decay margin, centred on the contact
+        width_x = q["x_max"] - q["x_min"]
+        width_y = q["y_max"] - q["y_min"]
+        if domain_length is not None:
+            check_period(q)
+        guard = 4.0 * max(sol.grid.spacing)
+        margin_y = Film.domain_margin(film, tol) if visco else margin  # the tail is along x
+        L = domain_length or (width_x + margin + guard, width_y + margin_y + guard)
+        center = (0.5 * (q["x_max"] + q["x_min"]), 0.0) if domain_length is None else (0.0, 0.0)
     if grid_points:
         levels = [tuple(n // 2 for n in grid_points), grid_points]
     else:
@@ -311,6 +321,8 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
             p_init = None  # the indenter's own guess
         cur = count(contact(g, p_init=p_init))
         qcur = _measure(cur, ind)
+        if fixed_box and i == 0:
+            check_period(qcur)
         history.append((shape, qcur))
         if qprev is not None:
             est = _difference(qcur, qprev, ind.singular_peak)
