@@ -287,8 +287,9 @@ def _summary_keys() -> list[str]:
 
     keys = list(JSON_KEYS)
     keys += [k for k in JSON_KEYS_3D if k not in keys]
-    return keys + ["length_m", "radius_x_m", "radius_y_m", "auto_reason", "speed_m_per_s",
-                   "prony_terms", "deformation_friction"]
+    keys += ["length_m", "radius_x_m", "radius_y_m", "auto_reason", "speed_m_per_s",
+             "prony_terms", "deformation_friction"]
+    return list(dict.fromkeys(keys))
 
 
 def _result_columns() -> list[str]:
