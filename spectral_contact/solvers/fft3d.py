@@ -50,7 +50,6 @@ from ..physics.film import Film
 from ..physics.friction import ShearLaw
 from ..physics.scene import Scene3D, check_positive
 from ..physics.transfer import F2, compressible_tangential_function, tanh_over, transfer_functions
-from ..physics.viscoelastic import ViscoelasticFilm, film_of
 from ..result import ContactResult3D
 from .base import check_grid_points
 
@@ -172,8 +171,8 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     grid_points, domain_length = _check_fixed(grid_points, domain_length)
     # issue 14: any nu (nu = 1/2: the incompressible path); issue 23: a viscoelastic film in
     # steady sliding (its relaxation tail lengthens the period along x only)
-    film = film_of(scene)
-    visco = isinstance(film, ViscoelasticFilm)
+    film = scene.core_film()
+    visco = film.moving  # a film whose symbols depend on the sliding (physics.film)
     P = scene.P
     mu_contact = scene.mu if model == "exact" else 0.0
     ind = scene.indenter_object()
@@ -194,13 +193,12 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     rtol = max(1e-10, 1e-4 * accept)
 
     def contact(grid, p_init=None, locator=False):
-        if visco:  # the k_x = 0 modes: R averaged over their band (ViscoelasticFilm.kx_cell)
+        if visco:  # the k_x = 0 modes: R averaged over their band (Film.on_grid)
             if p_init is None:  # the indenter's own guess, not the nested start: its coarse
                 # grids on the tail's long period hold the contact on a node or two (measured:
                 # the sphere at V = 10 m/s, tau 10 ms failed on the load residual, 5 %)
                 p_init = np.broadcast_to(ind.initial_pressure(grid), grid.shape).copy()
-            return _contact(grid, dataclasses.replace(film, kx_cell=math.pi / grid.lengths[0]),
-                            p_init, locator)
+            return _contact(grid, film.on_grid(grid.lengths), p_init, locator)
         return _contact(grid, film, p_init, locator)
 
     def _contact(grid, film, p_init=None, locator=False):
