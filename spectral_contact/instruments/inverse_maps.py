@@ -21,8 +21,8 @@ solver's periodic domain, whose margin lets the base field decay (~1e-4 of its p
 border): there the record *is* one period, and nothing lies beyond it.  A record cut from a
 larger field (a measured window) still carries 4-12 % of the peak at its border, and a
 periodic model would wrap those tails.  Such records are refused, not inverted: after the fit,
-if the re-predicted data on the outermost rows or columns exceed ``BORDER_Z`` noise sd, the
-call raises InputError (modelling tractions beyond a window, as the line inverse does with its
+if the re-predicted data on the outermost rows or columns exceed ``BORDER_Z`` noise sd and
+``BORDER_REL`` of the peak, the call raises InputError (modelling tractions beyond a window, as the line inverse does with its
 margins, is not done for maps).
 
 Prior.  p, q_x, q_y are independent zero-mean stationary Gaussian processes with Matern
@@ -52,7 +52,7 @@ function R_pp = [A^-1 M^H D^-1 M]_pp; the resolution length is sqrt of its equiv
 Laws.  The local (p, q_par) pairs, q_par = q . e with e the direction of the total tangential
 force, at cells where p is resolved (mean > ``RESOLVED_Z`` sd) and at least
 ``LAW_EDGE_GUARD`` resolution lengths inside the resolved region, thinned to a lattice of step
-one resolution length (at most ``LAW_MAX_PAIRS``), go to ``inverse.fit_laws`` with their full
+half a resolution length (at most ``LAW_MAX_PAIRS``), go to ``inverse.fit_laws`` with their full
 posterior covariance: Amontons, q = tau0 + alpha p and the power law, sigmas and AIC.
 
 Units: lengths in h in the core, stresses scaled by the data's peak; SI at the edge.
@@ -68,7 +68,7 @@ from ..errors import InputError
 from ..numerics.grid import Grid
 from ..physics.film import Film
 
-__all__ = ["invert_maps", "read_maps", "MapInversion", "MAP_INVERT_JSON_KEYS",
+__all__ = ["invert", "invert_maps", "read_maps", "MapInversion", "MAP_INVERT_JSON_KEYS",
            "MAP_OUT_KEYS", "base_maps_from_tractions", "KERNEL_NUS", "BORDER_Z"]
 
 KERNEL_NU = 1.5
@@ -76,7 +76,9 @@ KERNEL_NU = 1.5
 KERNEL_NUS = (0.5, 1.5, 2.5)
 """The smoothness values the evidence chooses among."""
 BORDER_Z = 3.0
-"""A record is a window (refused) if its re-predicted border data exceed this many noise sd."""
+BORDER_REL = 1e-3
+"""A record is a window (refused) if its re-predicted border data exceed this many noise sd
+and ``BORDER_REL`` of the data's peak (noise-free records: the peak alone)."""
 RESOLVED_Z = 3.0
 LAW_EDGE_GUARD = 1.0
 LAW_MAX_PAIRS = 300
@@ -508,7 +510,7 @@ def invert_maps(x_m, y_m, zz_Pa, xz_Pa, yz_Pa, *, thickness: float = 0.002,
     border = np.concatenate([np.abs(fit[:, [0, -1], :]).reshape(3, -1),
                              np.abs(fit[:, :, [0, -1]]).reshape(3, -1)], axis=1).max(axis=1)
     border_z = border / noise
-    if np.any(border_z > BORDER_Z):
+    if np.any((border_z > BORDER_Z) & (border > BORDER_REL)):
         c = int(np.argmax(border_z))
         raise InputError(f"the record's border carries {border_z[c]:.3g} noise sd of signal "
                          f"({('zz', 'xz', 'yz')[c]}): a window cut from a larger field, which "
@@ -564,7 +566,7 @@ def invert_maps(x_m, y_m, zz_Pa, xz_Pa, yz_Pa, *, thickness: float = 0.002,
            "view": view, "points": [int(nx), int(ny)], "thickness_m": h, "poisson": nu,
            "resolved_rule": f"laws on cells where p > {RESOLVED_Z:g} sd(p), at least "
                             f"{LAW_EDGE_GUARD:g} resolution lengths inside that region, on a "
-                            f"lattice of one resolution length",
+                            f"lattice of half a resolution length",
            "laws": laws}
     data = {"data": d, "fit": fit * scale}
     mm = mean * scale
@@ -578,7 +580,7 @@ def _laws(mean, sd, C, shape, steps, res, Q):
     their offset."""
     from scipy.ndimage import distance_transform_edt
 
-    from .inverse import fit_laws
+    from .inverse_laws import fit_laws
 
     nx, ny = shape
     dx, dy = steps
@@ -618,3 +620,55 @@ def _laws(mean, sd, C, shape, steps, res, Q):
     laws["pairs"] = int(len(sel))
     pairs = {"p": pp, "q": qq, "p_sd": np.sqrt(np.diag(Cpp)), "q_sd": np.sqrt(np.diag(Cqq))}
     return pairs, laws
+
+
+# --- entry: the package's ``invert`` for lines and maps ---------------------------------------
+
+def invert(source=None, *, x_m=None, y_m=None, zz_Pa=None, xz_Pa=None, yz_Pa=None,
+           view: str | None = None, thickness: float | None = None,
+           poisson: float | None = None, apparatus=None, **line_options):
+    """Interface tractions with uncertainties from base stresses: a line record (-> the line
+    inverse, ``instruments.inverse.invert``, with all its options) or maps (-> ``invert_maps``):
+
+        >>> from spectral_contact import invert, solve
+        >>> inv = invert(solve(indenter="sphere", force=1.0, mu=1.0))  # its base maps
+        >>> inv.summary()["force_N"], inv.maps()["pressure_Pa"].shape
+        >>> inv = invert("maps.npz", thickness=0.002)  # solve --maps, or S_* maps
+        >>> inv.plot()
+
+    Maps when ``source`` is a 3D result (``ContactResult3D``: its base maps, view "base",
+    thickness and poisson from its scene), an .npz path (``read_maps``), or when ``y_m`` is
+    given with ``x_m, zz_Pa, xz_Pa, yz_Pa`` arrays [x, y] (zz > 0 in compression:
+    -sigma_zz(x, y, 0) or S_zz; ``view`` "base" by default, or "sensor").  Returns a
+    ``MapInversion``; otherwise what the line inverse returns (``LineInversion``)."""
+    is_result3d = source is not None and hasattr(source, "base_sigma_yz")
+    is_npz = isinstance(source, (str,)) or hasattr(source, "__fspath__")
+    is_npz = is_npz and str(source).lower().endswith(".npz")
+    if not (is_result3d or is_npz or y_m is not None):
+        from .inverse import invert as invert_line_entry
+
+        if yz_Pa is not None:
+            raise InputError("yz_Pa is for maps: give y_m as well (arrays [x, y])")
+        return invert_line_entry(source, x_m=x_m, zz_Pa=zz_Pa, xz_Pa=xz_Pa, view=view,
+                                 thickness=thickness, poisson=poisson, apparatus=apparatus,
+                                 **line_options)
+    bad = [k for k, v in line_options.items() if v not in (None, False)]
+    if bad:
+        raise InputError(f"{bad[0]}: not available for maps; line records only")
+    if is_result3d:
+        mp = source.maps()
+        x, y, kind = mp["x_m"], mp["y_m"], "base"
+        zz, xz, yz = -mp["base_sigma_zz_Pa"], mp["base_sigma_xz_Pa"], mp["base_sigma_yz_Pa"]
+        thickness = source.scene.thickness if thickness is None else thickness
+        poisson = source.scene.poisson if poisson is None else poisson
+    elif is_npz:
+        x, y, (zz, xz, yz), kind = read_maps(source)
+        if view is not None and view != kind:
+            raise InputError(f"{source}: holds {kind} maps; view={view!r} does not apply")
+    else:
+        if x_m is None or zz_Pa is None or xz_Pa is None or yz_Pa is None:
+            raise InputError("maps need x_m, y_m, zz_Pa, xz_Pa and yz_Pa")
+        x, y, zz, xz, yz, kind = x_m, y_m, zz_Pa, xz_Pa, yz_Pa, view or "base"
+    return invert_maps(x, y, zz, xz, yz, thickness=0.002 if thickness is None else thickness,
+                       poisson=0.5 if poisson is None else poisson, view=kind,
+                       apparatus=apparatus)
