@@ -22,8 +22,8 @@ border): there the record *is* one period, and nothing lies beyond it.  A record
 larger field (a measured window) still carries 4-12 % of the peak at its border, and a
 periodic model would wrap those tails.  Such records are refused, not inverted: after the fit,
 if the re-predicted data on the outermost rows or columns exceed ``BORDER_Z`` noise sd and
-``BORDER_REL`` of the peak, the call raises InputError (modelling tractions beyond a window, as the line inverse does with its
-margins, is not done for maps).
+``BORDER_REL`` of the peak, the call raises InputError (modelling tractions beyond a window,
+as the line inverse does with its margins, is not done for maps).
 
 Prior.  p, q_x, q_y are independent zero-mean stationary Gaussian processes with Matern
 spectral densities, per field f
