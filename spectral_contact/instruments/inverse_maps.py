@@ -22,7 +22,8 @@ border): there the record *is* one period, and nothing lies beyond it.  A record
 larger field (a measured window) still carries 4-12 % of the peak at its border, and a
 periodic model would wrap those tails.  Such records are refused, not inverted: after the fit,
 if the re-predicted data on the outermost rows or columns exceed ``BORDER_Z`` noise sd and
-``BORDER_REL`` of the peak, the call raises InputError (modelling tractions beyond a window,
+``BORDER_REL`` of the peak, the call raises InputError (an axis along which the field does not
+vary, a line record repeated along y, is periodic and not checked) (modelling tractions beyond a window,
 as the line inverse does with its margins, is not done for maps).
 
 Prior.  p, q_x, q_y are independent zero-mean stationary Gaussian processes with Matern
@@ -309,7 +310,7 @@ class MapInversion:
         with the fitted laws."""
         from matplotlib.figure import Figure
 
-        fig = fig or Figure(figsize=(13, 8), layout="constrained")
+        fig = fig or Figure(figsize=(14, 8), layout="constrained")
         ax = fig.subplots(2, 4)
         mm, kPa = 1e3, 1e-3
         x, y = self.x_m * mm, self.y_m * mm
@@ -318,11 +319,26 @@ class MapInversion:
             qsd = np.sqrt((self.shear_x_Pa * self.shear_x_sd_Pa) ** 2
                           + (self.shear_y_Pa * self.shear_y_sd_Pa) ** 2) / qabs
         qsd = np.where(qabs > 0, qsd, np.hypot(self.shear_x_sd_Pa, self.shear_y_sd_Pa))
+        # the maps: where p or |q| exceeds 5 % of its peak, and 2 h around
+        big = (np.abs(self.pressure_Pa) > 0.05 * np.abs(self.pressure_Pa).max()) | \
+            (qabs > 0.05 * qabs.max())
+        h = self.record["thickness_m"] * mm
+        if big.any():
+            ii, jj = np.nonzero(big.any(1))[0], np.nonzero(big.any(0))[0]
+            sx = (x >= x[ii.min()] - 2 * h) & (x <= x[ii.max()] + 2 * h)
+            sy = (y >= y[jj.min()] - 2 * h) & (y <= y[jj.max()] + 2 * h)
+        else:
+            sx, sy = np.ones(x.size, bool), np.ones(y.size, bool)
         for a, f, title in ((ax[0, 0], self.pressure_Pa, "p [kPa]"),
                             (ax[0, 1], qabs, "|q| [kPa]"),
                             (ax[1, 0], self.pressure_sd_Pa, "sd(p) [kPa]"),
                             (ax[1, 1], qsd, "sd(|q|) [kPa] (first order)")):
-            im = a.pcolormesh(x, y, (f * kPa).T, shading="nearest", cmap="viridis")
+            f = f[np.ix_(sx, sy)] * kPa
+            lo, hi = float(f.min()), float(f.max())
+            if hi - lo < 1e-6 * max(abs(hi), 1e-300):  # uniform (stationary prior): one colour
+                lo, hi = lo - 0.5 * abs(lo) - 1e-300, hi + 0.5 * abs(hi) + 1e-300
+            im = a.pcolormesh(x[sx], y[sy], f.T, shading="nearest", cmap="viridis",
+                              vmin=lo, vmax=hi)
             fig.colorbar(im, ax=a, shrink=0.8)
             a.set_aspect("equal")
             a.set_title(title, fontsize=9)
@@ -337,19 +353,21 @@ class MapInversion:
                            color=c, alpha=0.3)
             a.plot(x, f[:, j] * kPa, c + "-", label=f"{lab} (95 % band)")
         r = self.record
-        a.set_title(f"y = {self.y_m[j] * mm:.3g} mm; F = {r['force_N']:.4g} +- "
+        a.set_title(f"line y = {self.y_m[j] * mm:.3g} mm\nF = {r['force_N']:.4g} +- "
                     f"{r['force_sigma_N']:.2g} N, Q_x/F = {r['Q_over_P']:.4g}", fontsize=9)
         a.set_xlabel("x [mm]")
         a.set_ylabel("traction [kPa]")
+        a.set_xlim(x[sx][0], x[sx][-1])
         a.legend(fontsize=7)
         a = ax[0, 3]
         d = self.data
         for i, (c, lab) in enumerate((("C0", "zz"), ("C1", "xz"), ("C2", "yz"))):
             a.plot(x, d["data"][i][:, j] * kPa, c + ".", ms=2, label=f"data {lab}")
             a.plot(x, d["fit"][i][:, j] * kPa, "k-", lw=0.7)
-        a.set_title("data (dots) and re-predicted (lines), y = 0", fontsize=9)
+        a.set_title("data (dots), re-predicted (lines)", fontsize=9)
         a.set_xlabel("x [mm]")
         a.set_ylabel(("S" if r["view"] == "sensor" else "base stress") + " [kPa]")
+        a.set_xlim(x[sx][0], x[sx][-1])
         a.legend(fontsize=7)
         a = ax[1, 2]
         for i, (c, lab) in enumerate((("C0", "zz"), ("C1", "xz"), ("C2", "yz"))):
@@ -359,6 +377,7 @@ class MapInversion:
         a.axhspan(-2 * nz, 2 * nz, color="0.85", zorder=0, label="+-2 noise sd (zz)")
         a.set_xlabel("x [mm]")
         a.set_ylabel("residual [kPa]")
+        a.set_xlim(x[sx][0], x[sx][-1])
         a.legend(fontsize=7)
         a = ax[1, 3]
         pr = self.pairs
@@ -507,8 +526,13 @@ def invert_maps(x_m, y_m, zz_Pa, xz_Pa, yz_Pa, *, thickness: float = 0.002,
     mean = np.fft.irfft2(np.moveaxis(mean_k, -1, 0), s=(nx, ny), axes=(1, 2))
     fit = np.fft.irfft2(np.moveaxis(np.einsum("...ij,...j->...i", M, mean_k), -1, 0),
                         s=(nx, ny), axes=(1, 2))
-    border = np.concatenate([np.abs(fit[:, [0, -1], :]).reshape(3, -1),
-                             np.abs(fit[:, :, [0, -1]]).reshape(3, -1)], axis=1).max(axis=1)
+    # the border: the outermost rows and columns, along each axis where the field varies
+    # (a field invariant along an axis, a line record repeated along y, is periodic along it)
+    edges = [np.zeros((3, 1))]
+    for ax in (1, 2):
+        if np.any(np.ptp(fit, axis=ax).max(axis=-1) > BORDER_Z * noise):
+            edges.append(np.abs(np.take(fit, [0, -1], axis=ax)).reshape(3, -1))
+    border = np.concatenate(edges, axis=1).max(axis=1)
     border_z = border / noise
     if np.any((border_z > BORDER_Z) & (border > BORDER_REL)):
         c = int(np.argmax(border_z))
