@@ -438,8 +438,8 @@ def read_maps(path):
     """Base-stress maps from an NPZ: ``x_m, y_m`` and either ``base_sigma_zz_Pa,
     base_sigma_xz_Pa, base_sigma_yz_Pa`` (the package's ``--maps`` keys and signs: sigma_zz < 0
     in compression) or ``S_zz_Pa, S_xz_Pa, S_yz_Pa`` (the MEMS view, S_zz > 0 in compression),
-    arrays [x, y]; one view per file (``--maps --sensor`` files hold both: then give
-    ``view``... no: a file with both is refused; drop one).  Returns (x_m, y_m, (d_zz, d_xz,
+    arrays [x, y]; one view per file (a ``solve --maps --sensor`` file holds both: refused,
+    keep one).  Returns (x_m, y_m, (d_zz, d_xz,
     d_yz), view) with d_zz > 0 in compression.  Raises InputError (one line naming the file)."""
     import zipfile
 
@@ -463,7 +463,8 @@ def read_maps(path):
     if not present:
         raise InputError(f"{name}: no stress maps; need {want}")
     if len(present) > 1:
-        raise InputError(f"{name}: mixes views (base_sigma_* and S_*); give one of {want}")
+        raise InputError(f"{name}: mixes views (base_sigma_* and S_*, as solve --maps --sensor "
+                         f"writes); keep one in the file: {want}")
     view = present[0]
     miss = [k for k in _VIEWS[view] if k not in keys]
     if miss:
