@@ -58,6 +58,38 @@ def check_onset_scene3d(scene) -> Scene3D:
     return scene
 
 
+def _unit(v):
+    n = np.hypot(v[0], v[1])
+    return v / np.where(n > 0, n, 1.0), n
+
+
+def _predict(s0: SlipState2D, s1: SlipState2D, f: np.ndarray, mu: float):
+    """First sets and fields of the next step, extrapolated linearly from the last two (equal
+    load steps along one path): the stick set where the margin |mu| p - |q| stays positive,
+    the contact where the pressure does (and free nodes whose gap closes), new slip nodes
+    along the last step's slip (or the shear), p, q, d and delta continued.  Only the number
+    of active-set iterations depends on it (the solver checks every condition); None when
+    nothing would stick."""
+    m0 = mu * s0.p - np.hypot(*s0.q)
+    m1 = mu * s1.p - np.hypot(*s1.q)
+    contact = np.where(s1.contact, 2.0 * s1.p - s0.p > 0.0,
+                       2.0 * (f - s1.d + s1.w) - (f - s0.d + s0.w) < 0.0)
+    stick = s1.stick & contact & (2.0 * m1 - m0 > 0.0)
+    if not stick.any():
+        return None
+    slipping = contact & ~stick
+    ds = (s1.delta - s0.delta)[:, None] - (s1.u - s0.u)
+    dsu, dsn = _unit(ds)
+    qu, qn = _unit(s1.q)
+    t = np.where(qn > 0, qu, np.where(dsn > 0, dsu, 0.0))
+    g = SlipState2D(p=np.where(contact, np.maximum(2.0 * s1.p - s0.p, 1e-12 * s1.p.max()), 0.0),
+                    q=np.where(contact, s1.q, 0.0), w=s1.w, u=s1.u, d=2.0 * s1.d - s0.d,
+                    delta=2.0 * s1.delta - s0.delta, contact=contact, stick=stick,
+                    sigma=s1.sigma, P=s1.P, Q=s1.Q)
+    g.t = np.where(slipping, t, 0.0)
+    return g
+
+
 class _Run3D:
     def __init__(self, grid, film, ind, P, mu, path, loading, loading_steps, accept,
                  progress=None):
@@ -87,10 +119,13 @@ class _Run3D:
             guess.stick = guess.contact.copy()
             guess.p = s0.pressure.ravel().copy()
             guess.d = float(s0.indentations[0])
+            before = None
             for k in range(1, loading_steps + 1):
-                state = solve_slip_step_2d(op, f, state, P * k / loading_steps, (0.0, 0.0), amu,
-                                           guess=guess if k == 1 else None, accept=accept,
-                                           rtol=rtol)
+                if k > 1:
+                    guess = _predict(before, state, f, amu) if k > 2 else None
+                new = solve_slip_step_2d(op, f, state, P * k / loading_steps, (0.0, 0.0), amu,
+                                         guess=guess, accept=accept, rtol=rtol)
+                before, state = state, new
                 count(state)
         else:
             p = s0.pressure.ravel().copy()
@@ -104,8 +139,11 @@ class _Run3D:
         self.states = []
         sgn = 1.0 if mu > 0 else -1.0
         for k, r in enumerate(path, start=1):
+            guess = None
+            if k > 2 and (path[k - 1] - path[k - 2]) * (path[k - 2] - path[k - 3]) > 0:
+                guess = _predict(self.states[-2], state, f, amu)
             state = solve_slip_step_2d(op, f, state, P, (sgn * amu * P * r, 0.0), amu,
-                                       accept=accept, rtol=rtol)
+                                       accept=accept, rtol=rtol, guess=guess)
             count(state)
             self.states.append(state)
             if progress:
