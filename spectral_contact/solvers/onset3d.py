@@ -6,9 +6,11 @@ or frictionless), then Q = mu P k/N along x (with ``cycle``: down to -amplitude 
 history kept.  The grid has the spacing of ``solve``'s 3D grid for the same scene and tol, on
 periods holding the normal and the sliding contacts plus the kernels' decay margin; the loading
 is run at N/2 and N points per axis and the per-step estimate is 1.5 x their difference in the
-contact radius sqrt(A/pi), the pressure centroid (over the radius), the indentation, the peak
-pressure and the tangential displacement (over its largest value), plus the periodic images'
-bound; one doubling if it exceeds tol (then, or with a fixed grid, ``tolerance_met`` says).
+contact radius sqrt(A/pi) (A the polygon through the sub-grid edges, ``measure_contact_2d``, as
+``solve``; counting the contact's cells made it 5-10 x larger and the default tol went to 512^2),
+the pressure centroid (over the radius), the indentation, the peak pressure and the tangential
+displacement (over its largest value), plus the periodic images' bound; one doubling if it
+exceeds tol (then, or with a fixed grid, ``tolerance_met`` says).
 The stick zone's radius sqrt(area/pi) has its own estimate (``stick_error_estimate``).
 
 Default tol 1e-2 (``DEFAULT_TOL_3D``): each level costs N^2 points per step and the loading
@@ -25,6 +27,7 @@ from ..errors import ConvergenceError, InputError
 from ..numerics.contact import solve_contact
 from ..numerics.fft import get_rfft
 from ..numerics.grid import Grid, pow2_at_least
+from ..numerics.measure2d import measure_contact_2d
 from ..numerics.partial_slip2d import PartialSlipOperator2D, SlipState2D, solve_slip_step_2d
 from ..physics.film import Film
 from ..physics.indenters import Paraboloid
@@ -149,22 +152,23 @@ class _Run3D:
             if progress:
                 progress(k, len(path), grid.shape[0])
         self.counters = counters
-        self.measures = [self.measure(s) for s in [self.loaded] + self.states]
+        self.measures = [self.measure(s, f) for s in [self.loaded] + self.states]
 
-    def measure(self, s):
+    def measure(self, s, f):
+        """The contact's area (the polygon through the sub-grid edges, ``measure_contact_2d``,
+        as ``solve`` measures it), pressure centroid and peak; the stick zone's area (its
+        nodes' cells) and x extent (node positions); d, delta."""
         g = self.grid
-        x, y = (np.broadcast_to(c, g.shape).ravel() for c in g.coordinates())
-        cell = g.cell
-        area = s.contact.sum() * cell
-        stick_area = s.stick.sum() * cell
-        w = s.p.sum()
+        x = np.broadcast_to(g.coordinates()[0], g.shape).ravel()
+        m = measure_contact_2d(g, s.p.reshape(g.shape), (f - s.d + s.w).reshape(g.shape),
+                               s.contact.reshape(g.shape))
+        stick_area = s.stick.sum() * g.cell
         xs = x[s.stick]
-        return {"area": area, "radius": math.sqrt(area / math.pi),
+        return {"area": m["area"], "radius": math.sqrt(m["area"] / math.pi),
                 "stick_area": stick_area, "stick_radius": math.sqrt(stick_area / math.pi),
                 "stick_lo": float(xs.min()) if xs.size else math.nan,
                 "stick_hi": float(xs.max()) if xs.size else math.nan,
-                "xc": float((x * s.p).sum() / w) if w > 0 else 0.0,
-                "d": float(s.d), "pmax": float(s.p.max()), "delta": float(s.delta[0]),
+                "xc": m["xc"], "d": float(s.d), "pmax": m["pmax"], "delta": float(s.delta[0]),
                 "delta_y": float(s.delta[1]), "stick_nodes": int(s.stick.sum())}
 
 
