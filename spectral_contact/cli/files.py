@@ -22,7 +22,8 @@ import numpy as np
 from ..errors import InputError
 
 __all__ = ["write_csv", "to_json", "check_plot_path", "check_output", "check_outputs",
-           "Outputs", "meta_path", "write_meta_json", "json_ready"]
+           "Outputs", "meta_path", "write_meta_json", "json_ready", "plan_outputs",
+           "write_outputs", "csv_file", "staged"]
 
 
 def check_plot_path(path, option: str = "--plot") -> Path:
@@ -104,6 +105,53 @@ def check_outputs(inputs=None, metas=(), **paths) -> dict:
         for key in keys:
             seen[key] = ("output", label)
     return out
+
+
+def plan_outputs(inputs=None, csvs=(), plots=(), **paths) -> dict:
+    """The output check every command makes before any work: ``check_outputs`` (no output over
+    an input or another output; ``csvs``: the options whose CSV gets an implicit ``.meta.json``)
+    and, for each option of ``plots`` that is given, ``check_plot_path`` (a format matplotlib
+    writes).  Returns {option: Path} of the outputs given, for ``write_outputs``."""
+    outputs = check_outputs(inputs=inputs, metas=csvs, **paths)
+    for option in plots:
+        if paths.get(option) is not None:
+            check_plot_path(paths[option], option)
+    return outputs
+
+
+def csv_file(columns, meta):
+    """A writer for ``write_outputs``: the CSV ``columns`` ({name: 1D array}, or a function of
+    no argument giving them) and its ``.meta.json`` holding ``meta`` (a dict, or a function of
+    the columns giving it); the functions are called only when the option was given."""
+    def write(outs, target):
+        cols = columns() if callable(columns) else columns
+        write_csv(outs.path(target), cols)
+        add_meta(outs, target, meta(cols) if callable(meta) else meta)
+    return write
+
+
+def staged(write_to):
+    """A writer for ``write_outputs``: ``write_to(path)`` writes the file (a figure, an NPZ) at
+    the temporary path it is given."""
+    def write(outs, target):
+        write_to(outs.path(target))
+    return write
+
+
+def write_outputs(outputs: dict, writers: dict, stdout) -> None:
+    """The one write step of a command: each writer whose option is in ``outputs`` (from
+    ``plan_outputs``) writes its temporary, in the order of ``writers``; then ``stdout`` (text,
+    or a function giving it) is printed and every file renamed into place -- or, on any error
+    (stdout closed or full included), nothing is written (``Outputs``).
+
+        write_outputs(outputs, {"--profiles": csv_file(cols, meta),
+                                "--plot": staged(lambda p: fig.savefig(p))}, summary)
+    """
+    with Outputs() as outs:
+        for option, write in writers.items():
+            if outputs.get(option) is not None:
+                write(outs, outputs[option])
+        outs.print(stdout() if callable(stdout) else stdout)
 
 
 COMMITTED: list[Path] = []

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from ..errors import InputError
 from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR
-from .files import Outputs, add_meta, check_outputs, check_plot_path, to_json, write_csv
+from .files import csv_file, plan_outputs, staged, to_json, write_outputs
 from .mems import _apparatus, _positive, _scene_options
 
 __all__ = ["register", "CSV_COLUMNS"]
@@ -60,11 +60,10 @@ def _cmd_invert(args) -> int:
     check_poisson(args.poisson)
     # the shared check (issue 24): no output, implicit .meta.json included, over an input
     # (resolved path or inode) or over another output
-    outputs = check_outputs(inputs={"FILE": args.record, "--apparatus-zz": args.apparatus_zz,
-                                    "--apparatus-xz": args.apparatus_xz},
-                            metas=("--out",), **{"--out": args.out, "--plot": args.plot})
-    if args.plot is not None:
-        check_plot_path(args.plot)
+    outputs = plan_outputs(inputs={"FILE": args.record, "--apparatus-zz": args.apparatus_zz,
+                                   "--apparatus-xz": args.apparatus_xz},
+                           csvs=("--out",), plots=("--plot",),
+                           **{"--out": args.out, "--plot": args.plot})
     if args.support is not None:
         a, b = args.support
         if not (math.isfinite(a) and math.isfinite(b) and b > a):
@@ -79,28 +78,26 @@ def _cmd_invert(args) -> int:
                       apparatus=apparatus, positive=args.positive, support=args.support)
     rec = inv.summary()
     rec["input"] = str(args.record)
-    with Outputs() as outs:
-        if "--out" in outputs:
-            write_csv(outs.path(outputs["--out"]), inv.profiles())
-            add_meta(outs, outputs["--out"], {
-                "written_by": "spectral-contact invert",
-                "columns": {"x_m": "traction node [m], the record's frame",
-                            "pressure_Pa": "p = -sigma_zz(x, h), posterior mean [Pa]",
-                            "pressure_sd_Pa": "posterior sd of p [Pa]",
-                            "shear_Pa": "q = sigma_xz(x, h), posterior mean [Pa]",
-                            "shear_sd_Pa": "posterior sd of q [Pa]",
-                            "mu_local": "q/p where p > 3 sd(p), else empty (nan)",
-                            "mu_local_sd": "first-order sd of q/p"},
-                **rec})
-        if "--plot" in outputs:
-            inv.plot().savefig(outs.path(outputs["--plot"]), dpi=120)
-        _print_invert(outs, args, rec, view)  # stdout with the files, or nothing
+    write_outputs(outputs, {  # stdout with the files, or nothing
+        "--out": csv_file(inv.profiles, {
+            "written_by": "spectral-contact invert",
+            "columns": {"x_m": "traction node [m], the record's frame",
+                        "pressure_Pa": "p = -sigma_zz(x, h), posterior mean [Pa]",
+                        "pressure_sd_Pa": "posterior sd of p [Pa]",
+                        "shear_Pa": "q = sigma_xz(x, h), posterior mean [Pa]",
+                        "shear_sd_Pa": "posterior sd of q [Pa]",
+                        "mu_local": "q/p where p > 3 sd(p), else empty (nan)",
+                        "mu_local_sd": "first-order sd of q/p"},
+            **rec}),
+        "--plot": staged(lambda path: inv.plot().savefig(path, dpi=120)),
+    }, lambda: _invert_text(args, rec, view))
     return 0
 
 
-def _print_invert(outs, args, rec, view) -> None:
+def _invert_text(args, rec, view) -> str:
+    """invert's summary: the JSON record, or the text."""
     if args.json:
-        outs.print(to_json(rec))
+        return to_json(rec)
     else:
         mm = 1e3
         ci, cs = rec["contact_interval_m"], rec["contact_interval_sigma_m"]
@@ -124,4 +121,4 @@ def _print_invert(outs, args, rec, view) -> None:
             lines.append(f"  law {law:<9s} {pars}; chi2 {r['chi2']:.1f}/{r['dof']} "
                          f"(p {r['p_value']:.2g}), AIC {r['aic']:.1f}")
         lines.append(f"  best law (AIC): {laws.get('best')}")
-        outs.print("\n".join(lines))
+        return "\n".join(lines)

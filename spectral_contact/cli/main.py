@@ -155,7 +155,7 @@ def _with_visco(scene, args):
 def _cmd_solve(args) -> int:
     from ..api import solve
     from ..physics.scene import Scene
-    from .files import Outputs, add_meta, check_outputs, check_plot_path, json_ready, to_json, write_csv
+    from .files import csv_file, json_ready, plan_outputs, staged, to_json, write_outputs
 
     scene = _with_visco(scene_from_args(args), args)
     if not isinstance(scene, Scene):
@@ -163,10 +163,8 @@ def _cmd_solve(args) -> int:
     if args.maps is not None:
         raise InputError("--maps is for 3D indenters (--indenter sphere, cylinder, paraboloid); "
                          "the line indenter takes --profiles")
-    outputs = check_outputs(inputs=_inputs(args), metas=("--profiles",),
-                            **{"--profiles": args.profiles, "--plot": args.plot})
-    if args.plot is not None:
-        check_plot_path(args.plot)
+    outputs = plan_outputs(inputs=_inputs(args), csvs=("--profiles",), plots=("--plot",),
+                           **{"--profiles": args.profiles, "--plot": args.plot})
     apparatus = None
     if args.apparatus_zz or args.apparatus_xz:
         if not args.sensor:
@@ -184,24 +182,27 @@ def _cmd_solve(args) -> int:
 
         view = sensor(r, A_zz_mV_per_bar=args.a_zz, A_xz_mV_per_bar=args.a_xz, apparatus=apparatus)
     record = r.to_dict() | (view.to_dict() if view is not None else {})
-    with Outputs() as outs:
-        if "--profiles" in outputs:
-            cols = r.profiles()
-            if view is not None:
-                cols.update({k: v for k, v in view.profiles().items() if k != "x_m"})
-            write_csv(outs.path(outputs["--profiles"]), cols)
-            add_meta(outs, outputs["--profiles"], {
-                "written_by": "spectral-contact solve",
-                "columns": {k: _PROFILE_NOTES[k] for k in cols},
-                "result": record,
-            })
-        if "--plot" in outputs:
-            from .plots import plot_result
 
-            plot_result(r, outs.path(outputs["--plot"]), sensor=view)
-        # stdout is one of the outputs: written, then the files renamed, or nothing at all
-        outs.print(to_json(json_ready(record)) if args.json  # null, not NaN (no peak at zero load)
-                   else _summary_text(r, view))
+    def columns():
+        cols = r.profiles()
+        if view is not None:
+            cols.update({k: v for k, v in view.profiles().items() if k != "x_m"})
+        return cols
+
+    def plot(path):
+        from .plots import plot_result
+
+        plot_result(r, path, sensor=view)
+
+    # stdout is one of the outputs: written, then the files renamed, or nothing at all
+    write_outputs(outputs, {
+        "--profiles": csv_file(columns, lambda cols: {
+            "written_by": "spectral-contact solve",
+            "columns": {k: _PROFILE_NOTES[k] for k in cols},
+            "result": record}),
+        "--plot": staged(plot),
+    }, lambda: (to_json(json_ready(record)) if args.json  # null, not NaN (no peak at zero load)
+                else _summary_text(r, view)))
     return 0
 
 
@@ -256,14 +257,12 @@ def _cmd_solve3d(args, scene) -> int:
     import numpy as np
 
     from ..api import solve
-    from .files import Outputs, add_meta, check_outputs, check_plot_path, to_json, write_csv
+    from .files import csv_file, plan_outputs, staged, to_json, write_outputs
 
     if args.method != "fft":
         raise InputError(f"--method {args.method} is for the line indenter; 3D indenters use fft")
-    outputs = check_outputs(inputs=_inputs(args), metas=("--profiles",),
-                            **{"--profiles": args.profiles, "--plot": args.plot, "--maps": args.maps})
-    if args.plot is not None:
-        check_plot_path(args.plot)
+    outputs = plan_outputs(inputs=_inputs(args), csvs=("--profiles",), plots=("--plot",),
+                           **{"--profiles": args.profiles, "--plot": args.plot, "--maps": args.maps})
     r = solve(scene, model=args.model, method="fft", tol=args.tol, grid_points=args.grid_points,
               domain_length=args.domain_length)
     sensor = None
@@ -271,28 +270,33 @@ def _cmd_solve3d(args, scene) -> int:
         from ..instruments.sensor import sensor_maps
 
         sensor = sensor_maps(r, A_zz_mV_per_bar=args.a_zz, A_xz_mV_per_bar=args.a_xz)
-    with Outputs() as outs:
-        if "--maps" in outputs:
-            arrays = r.maps()
-            if sensor:
-                arrays.update({k: sensor[k] for k in ("S_zz_Pa", "S_xz_Pa", "S_yz_Pa")})
-            with open(outs.path(outputs["--maps"]), "wb") as fh:  # a handle: no ".npz" added
-                np.savez(fh, **arrays)
-        if "--profiles" in outputs:
-            cols = r.profiles()
-            if sensor:
-                j = int(np.argmin(np.abs(r.y)))
-                cols.update({k: sensor[k][:, j] for k in ("S_zz_Pa", "S_xz_Pa", "U_zz_mV", "U_xz_mV")})
-            write_csv(outs.path(outputs["--profiles"]), cols)
-            add_meta(outs, outputs["--profiles"], {
-                "written_by": "spectral-contact solve",
-                "columns": {k: _PROFILE_NOTES.get(k, "") + " (the line y = 0)" for k in cols},
-                "result": r.summary()})
-        if "--plot" in outputs:
-            from .plots import plot_maps
+    def maps(path):
+        arrays = r.maps()
+        if sensor:
+            arrays.update({k: sensor[k] for k in ("S_zz_Pa", "S_xz_Pa", "S_yz_Pa")})
+        with open(path, "wb") as fh:  # a handle: no ".npz" added
+            np.savez(fh, **arrays)
 
-            plot_maps(r, outs.path(outputs["--plot"]), sensor=sensor)
-        outs.print(to_json(r.summary()) if args.json else _summary_text3d(r, sensor))
+    def columns():
+        cols = r.profiles()
+        if sensor:
+            j = int(np.argmin(np.abs(r.y)))
+            cols.update({k: sensor[k][:, j] for k in ("S_zz_Pa", "S_xz_Pa", "U_zz_mV", "U_xz_mV")})
+        return cols
+
+    def plot(path):
+        from .plots import plot_maps
+
+        plot_maps(r, path, sensor=sensor)
+
+    write_outputs(outputs, {
+        "--maps": staged(maps),
+        "--profiles": csv_file(columns, lambda cols: {
+            "written_by": "spectral-contact solve",
+            "columns": {k: _PROFILE_NOTES.get(k, "") + " (the line y = 0)" for k in cols},
+            "result": r.summary()}),
+        "--plot": staged(plot),
+    }, lambda: to_json(r.summary()) if args.json else _summary_text3d(r, sensor))
     return 0
 
 

@@ -15,7 +15,7 @@ import numpy as np
 from ..errors import InputError
 from ..physics.options import option
 from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR
-from .files import Outputs, add_meta, check_outputs, check_plot_path, to_json
+from .files import csv_file, plan_outputs, staged, to_json, write_outputs
 
 __all__ = ["register", "COMPARE_JSON_KEYS", "CALIBRATE_JSON_KEYS"]
 
@@ -189,11 +189,10 @@ def _cmd_compare(args) -> int:
     tol = check_tol(args.tol)
     Scene(young=args.young, radius=args.radius, thickness=args.thickness,
           poisson=args.poisson)  # names the option as typed
-    outputs = check_outputs(inputs={"MEASURED.csv": args.measured,
-                                    "--apparatus-zz": args.apparatus_zz,
-                                    "--apparatus-xz": args.apparatus_xz},
-                            **{"--plot": args.plot})
-    plot = check_plot_path(args.plot) if args.plot is not None else None
+    outputs = plan_outputs(inputs={"MEASURED.csv": args.measured,
+                                   "--apparatus-zz": args.apparatus_zz,
+                                   "--apparatus-xz": args.apparatus_xz},
+                           plots=("--plot",), **{"--plot": args.plot})
     prof = read_measured_profile(args.measured)
     apparatus = _apparatus(args)
     Szz, Sxz = prof.stresses(args.a_zz, args.a_xz)
@@ -265,18 +264,16 @@ def _cmd_compare(args) -> int:
                     for name, f in fits.items()},
            "best_model": min(fits, key=lambda k: fits[k]["aic"]) if fits else None,
            "fits_failed": failed}
-    with Outputs() as outs:
-        if plot is not None:
-            _plot_compare(outs.path(outputs["--plot"]), prof, Szz, Sxz, models, fits, rec,
-                          (args.a_zz, args.a_xz))
-        _print_compare(outs, args, prof, P, mu, ex, go, fits, fit_note, rec)
+    write_outputs(outputs, {"--plot": staged(lambda path: _plot_compare(
+        path, prof, Szz, Sxz, models, fits, rec, (args.a_zz, args.a_xz)))},
+        lambda: _compare_text(args, prof, P, mu, ex, go, fits, fit_note, rec))
     return 0
 
 
-def _print_compare(outs, args, prof, P, mu, ex, go, fits, fit_note, rec):
-    """Stage compare's summary (text or JSON) on ``outs``' stdout."""
+def _compare_text(args, prof, P, mu, ex, go, fits, fit_note, rec) -> str:
+    """compare's summary: the JSON record, or the text."""
     if args.json:
-        outs.print(to_json(rec))  # null, not NaN
+        return to_json(rec)  # null, not NaN
     else:
         mm = 1e3
         lines = [
@@ -302,7 +299,7 @@ def _print_compare(outs, args, prof, P, mu, ex, go, fits, fit_note, rec):
                    if "interface_compliance_m_per_Pa" in f else ""))
         if fits:
             lines.append(f"  best model (AIC)     {rec['best_model']}")
-        outs.print("\n".join(lines))
+        return "\n".join(lines)
 
 
 FIT_CHI_FAILED = 0.99
@@ -408,10 +405,10 @@ def _cmd_calibrate(args) -> int:
     from ..instruments.calibration import calibrate
     from ..instruments.measured_io import read_radial_profile
 
-    outputs = check_outputs(inputs={"--measured": args.measured, "--computed": args.computed},
-                            metas=("--out",), **{"--out": args.out, "--plot": args.plot})
+    outputs = plan_outputs(inputs={"--measured": args.measured, "--computed": args.computed},
+                           csvs=("--out",), plots=("--plot",),
+                           **{"--out": args.out, "--plot": args.plot})
     out = outputs.get("--out")
-    plot = check_plot_path(args.plot) if args.plot is not None else None
     comp = args.component
     r, U, _ = read_radial_profile(args.measured, (f"U_{comp}_mV",))
     if args.computed:
@@ -460,46 +457,40 @@ def _cmd_calibrate(args) -> int:
     cal = calibrate(r, U, S, comp, args.method, noise_sd_mV=args.noise_sd, n_boot=args.n_boot,
                     seed=args.seed, progress=_Progress("bootstrap"))
     has_band = int(cal.info["n_boot"]) > 0
-    from .files import write_csv
-
-    with Outputs() as outs:
-        if out is not None:
-            write_csv(outs.path(out), cal.columns())
-            add_meta(outs, out, {
-                "written_by": "spectral-contact calibrate",
-                "columns": {"r_m": "radius [m] from the sensor centre",
-                            "G_per_m2": f"G_{comp}, unit integral over the plane [1/m^2]",
-                            "G_lo_per_m2": f"lower edge of the {cal.info['level']:.0%} bootstrap band "
-                                           f"(noise only; bias not included) [1/m^2]",
-                            "G_hi_per_m2": "upper edge of that band [1/m^2]",
-                            "AG_mV_per_bar_per_m2": f"A_{comp} G_{comp} [mV/bar/m^2]"},
-                "component": comp, "method": args.method, "A_mV_per_bar": cal.A_mV_per_bar,
-                "A_lo_mV_per_bar": cal.A_lo if has_band else None,
-                "A_hi_mV_per_bar": cal.A_hi if has_band else None,
-                "band_level": cal.info["level"], "n_boot": cal.info["n_boot"],
-                "noise_sd_mV": cal.info["noise_sd_mV"], "measured": str(args.measured),
-                "computed": source})
-        if plot is not None:
-            _plot_calibration(outs.path(plot), cal, r, U)
-        _print_calibration(outs, args, cal, comp, r, out, has_band)
+    write_outputs(outputs, {
+        "--out": csv_file(cal.columns, {
+            "written_by": "spectral-contact calibrate",
+            "columns": {"r_m": "radius [m] from the sensor centre",
+                        "G_per_m2": f"G_{comp}, unit integral over the plane [1/m^2]",
+                        "G_lo_per_m2": f"lower edge of the {cal.info['level']:.0%} bootstrap band "
+                                       f"(noise only; bias not included) [1/m^2]",
+                        "G_hi_per_m2": "upper edge of that band [1/m^2]",
+                        "AG_mV_per_bar_per_m2": f"A_{comp} G_{comp} [mV/bar/m^2]"},
+            "component": comp, "method": args.method, "A_mV_per_bar": cal.A_mV_per_bar,
+            "A_lo_mV_per_bar": cal.A_lo if has_band else None,
+            "A_hi_mV_per_bar": cal.A_hi if has_band else None,
+            "band_level": cal.info["level"], "n_boot": cal.info["n_boot"],
+            "noise_sd_mV": cal.info["noise_sd_mV"], "measured": str(args.measured),
+            "computed": source}),
+        "--plot": staged(lambda path: _plot_calibration(path, cal, r, U)),
+    }, lambda: _calibration_text(args, cal, comp, r, out, has_band))
     return 0
 
 
-def _print_calibration(outs, args, cal, comp, r, out, has_band):
-    """Stage calibrate's summary (text or JSON) on ``outs``' stdout."""
+def _calibration_text(args, cal, comp, r, out, has_band) -> str:
+    """calibrate's summary: the JSON record, or the text."""
     rec = {"component": comp, "method": args.method, "A_mV_per_bar": cal.A_mV_per_bar,
            "A_lo_mV_per_bar": cal.A_lo if has_band else None,  # no band without the bootstrap
            "A_hi_mV_per_bar": cal.A_hi if has_band else None,
            "noise_sd_mV": cal.info["noise_sd_mV"], "points": int(r.size),
            "out": str(out) if out else None}
     if args.json:
-        outs.print(to_json(rec))
-    else:
-        band = (f"{cal.info['level']:.0%} noise band {cal.A_lo:.5g} .. {cal.A_hi:.5g}, bias not "
-                f"included" if has_band else "no band: --n-boot 0")
-        outs.print(f"G_{comp} by {args.method}: A_{comp} = {cal.A_mV_per_bar:.5g} mV/bar "
-                   f"({band}); G(0) = {cal.G[0]:.4g} 1/m^2; "
-                   f"noise sd {cal.info['noise_sd_mV']:.3g} mV" + (f"; wrote {out}" if out else ""))
+        return to_json(rec)
+    band = (f"{cal.info['level']:.0%} noise band {cal.A_lo:.5g} .. {cal.A_hi:.5g}, bias not "
+            f"included" if has_band else "no band: --n-boot 0")
+    return (f"G_{comp} by {args.method}: A_{comp} = {cal.A_mV_per_bar:.5g} mV/bar "
+            f"({band}); G(0) = {cal.G[0]:.4g} 1/m^2; "
+            f"noise sd {cal.info['noise_sd_mV']:.3g} mV" + (f"; wrote {out}" if out else ""))
 
 
 def _plot_calibration(path, cal, r, U):

@@ -128,7 +128,7 @@ def _text3d(r) -> str:
 def _cmd_onset(args) -> int:
     from ..physics.scene import Scene
     from ..solvers.onset import MAX_STEPS, onset
-    from .files import Outputs, add_meta, check_outputs, check_plot_path, to_json, write_csv
+    from .files import csv_file, plan_outputs, staged, to_json, write_outputs
 
     if not 1 <= args.steps <= MAX_STEPS:
         raise InputError(f"--steps must be an integer in [1, {MAX_STEPS}]; got {args.steps}")
@@ -164,10 +164,8 @@ def _cmd_onset(args) -> int:
         scene = Scene3D(indenter=indenter, **given)
     if scene.mu == 0:
         raise InputError("--mu must be != 0 for onset (the tangential load goes up to mu P)")
-    outputs = check_outputs(metas=("--profiles",),
-                            **{"--profiles": args.profiles, "--plot": args.plot})
-    if args.plot is not None:
-        check_plot_path(args.plot)
+    outputs = plan_outputs(csvs=("--profiles",), plots=("--plot",),
+                           **{"--profiles": args.profiles, "--plot": args.plot})
 
     tty = sys.stderr is not None and sys.stderr.isatty()
 
@@ -187,19 +185,12 @@ def _cmd_onset(args) -> int:
               f"--grid-points {args.grid_points} (JSON: \"tolerance_met\": false)", file=sys.stderr)
     view = _sensor(r) if args.sensor else None
     record = r.summary()
-    with Outputs() as outs:
-        if "--profiles" in outputs:
-            cols = r.profiles(sensor=view)
-            write_csv(outs.path(outputs["--profiles"]), cols)
-            add_meta(outs, outputs["--profiles"], {
-                "written_by": "spectral-contact onset",
-                "columns": {k: _NOTES[k] for k in cols},
-                "result": record,
-            })
-        if "--plot" in outputs:
-            fig = r.plot(sensor=view)
-            fig.savefig(outs.path(outputs["--plot"]), dpi=120)
-        # stdout with the files, or nothing
-        outs.print(to_json(record) if args.json else
-                   (_text(r) if indenter == "line" else _text3d(r)))
+    write_outputs(outputs, {  # stdout with the files, or nothing
+        "--profiles": csv_file(lambda: r.profiles(sensor=view), lambda cols: {
+            "written_by": "spectral-contact onset",
+            "columns": {k: _NOTES[k] for k in cols},
+            "result": record}),
+        "--plot": staged(lambda path: r.plot(sensor=view).savefig(path, dpi=120)),
+    }, lambda: (to_json(record) if args.json else
+                (_text(r) if indenter == "line" else _text3d(r))))
     return 0

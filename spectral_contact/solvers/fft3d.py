@@ -346,19 +346,19 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
         prop = scene.mu if scene.friction.is_amontons else law.mu if law.proportional else None
         szz, sxz, syz, ux, uy, delta = _output_fields(film, sol.grid, p, prop, shear[0])
         counters["transforms"] += 4
-    mu_def = None
-    if getattr(scene, "viscoelastic", False):
-        # mu_def = Int p df/dx / P, df/dx = (h/2R) d f_core / d x_core (central differences,
-        # exact for quadratic heights), over the contact nodes
-        f = np.asarray(ind.height(sol.grid), dtype=float)
-        dfdx = (np.roll(f, -1, axis=0) - np.roll(f, 1, axis=0)) / (2.0 * sol.grid.spacing[0])
-        on = p > 0
-        mu_def = float(np.sum(p[on] * dfdx[on]) / np.sum(p[on])) * scene.thickness / (2.0 * scene.radius)
+    # mu_def = Int p df/dx / P on every film (Q_over_P = Int q / P + mu_def, issue 23),
+    # df/dx = (h/2R) d f_core / d x_core (central differences, exact for quadratic heights),
+    # over the contact nodes
+    f = np.asarray(ind.height(sol.grid), dtype=float)
+    dfdx = (np.roll(f, -1, axis=0) - np.roll(f, 1, axis=0)) / (2.0 * sol.grid.spacing[0])
+    on = p > 0
+    mu_def = (float(np.sum(p[on] * dfdx[on]) / np.sum(p[on])) * scene.thickness
+              / (2.0 * scene.radius) if on.any() else 0.0)
     total = time.perf_counter() - t0
     plan_time = planning_time() - plans0
     info = {
         **_solve_info(history, sol, margin, q, extent_est),
-        **({"deformation_friction": mu_def + 0.0} if getattr(scene, "viscoelastic", False) else {}),
+        "deformation_friction": mu_def + 0.0,
         **({"tail_length": film.tail_length} if visco else {}),
     }
     x, y = sol.grid.axes
