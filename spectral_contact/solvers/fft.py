@@ -43,7 +43,7 @@ from ..physics.scene import Scene, Scene3D, check_positive
 from ..result import ContactResult
 from .base import Method, check_grid_points, register
 from .fft3d import solve_fft3d
-from .fft_driver import Problem
+from .fft_driver import Problem, run
 
 __all__ = ["solve_fft", "FFTMethod", "MIN_POINTS", "MAX_POINTS"]
 
@@ -300,29 +300,39 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
             f"compliant interface: the half-width converges slowly and unevenly from coarse "
             f"grids and the error estimate may be below the true error at tol {tol:g} (measured "
             f"0.6 times at tol 1e-2); use tol <= {_INTERFACE_TOL:g}", UserWarning, stacklevel=3)
-    if prob.P == 0.0:
-        L = domain_length or prob.margin
-        g = Grid.centered(grid_points or MIN_POINTS, L)
-        z = np.zeros(g.n)
-        return ContactResult(scene, model, "fft", g.x, z, z.copy(), z.copy(), 0.0, 0.0, 0.0, 0.0,
-                             0.0, g.n, L, 0, 0.0, 0.0, time.perf_counter() - prob.t0, 0.0,
-                             {"fft_pairs": 0})
-    line = _LineSolve(prob, grid_points, domain_length)
-    sol, q = line.locate()
-    line.check_period(q)
-    return line.result(line.refine(sol, q))
+    return run(_LineSolve(prob, grid_points, domain_length))
 
 
 class _LineSolve:
-    """The line's resolution control (module docstring, steps 1-4) over a ``Problem``."""
+    """The line's steps of the one driver (``fft_driver.run``; module docstring, steps 1-4)."""
 
     def __init__(self, prob: Problem, grid_points, domain_length):
         self.prob, self.scene = prob, prob.scene
         self.grid_points, self.domain_length = grid_points, domain_length
         # the exponential law p = p0 exp(-g/lambda): no contact set (numerics.interface)
         self.exponential = self.scene.interface_law == "exponential"
-        self.indenter = [self.scene.indenter_object()]  # the cylinder, or a height function
+        self.indenter = None  # the cylinder, or a height function (made when loaded)
         self.image_amplitude = _IMAGE_AMPLITUDE * max(1.0, abs(prob.mu_contact) / 10.0)
+
+    def unloaded(self) -> ContactResult:
+        """P = 0: no contact, zero fields."""
+        prob = self.prob
+        L = self.domain_length or prob.margin
+        g = Grid.centered(self.grid_points or MIN_POINTS, L)
+        z = np.zeros(g.n)
+        return ContactResult(prob.scene, prob.model, "fft", g.x, z, z.copy(), z.copy(), 0.0, 0.0,
+                             0.0, 0.0, 0.0, g.n, L, 0, 0.0, 0.0, time.perf_counter() - prob.t0,
+                             0.0, {"fft_pairs": 0})
+
+    def shortcut(self):
+        """None: a line has no other path (surfaces: the open box)."""
+        return None
+
+    def period(self, located):
+        """A user-fixed period checked against the located contact; the automatic one is set
+        by ``refine`` (it may be lengthened: the images' effect, measured)."""
+        self.check_period(located[1])
+        return located
 
     def contact(self, grid, p_init=None, locator=False):
         prob, scene = self.prob, self.scene
@@ -356,6 +366,7 @@ class _LineSolve:
         whose contact fills its period is redone on a period twice as long, with the same
         spacing.  The locator never uses a user-fixed period."""
         prob, gp = self.prob, self.grid_points
+        self.indenter = [self.scene.indenter_object()]
         a_bound = self._a_bound()
         L0 = 4.0 * a_bound + prob.margin
         n0 = gp // 4 if gp else pow2_at_least(L0 / (2 * a_bound / _FIRST_ACROSS), MIN_POINTS)
@@ -390,13 +401,14 @@ class _LineSolve:
                 f"least {need:.4g} h (= {need * L_unit:.4g} m), raise tol, or leave "
                 f"domain_length automatic")
 
-    def refine(self, sol, q):
+    def refine(self, located):
         """2.-4. the period (contact plus the decay margin, centred on the contact) and the
         grid levels on it; beyond the friction where the images' amplitude was measured
         (|mu| <= _MU_IMAGES_MEASURED), their effect is measured instead: strong friction
         amplifies it far beyond the kernels' exp(-0.739 s) (mu = 30, a = 29 h, tol 1e-3: a 1.5 %
         off with 16.8 h of free period), and an automatic period is lengthened until it is
         below tol/4.  Returns the final level (``_Level``)."""
+        sol, q = located
         prob, tol = self.prob, self.prob.tol
         guard = 4 * sol.grid.dx
         L = self.domain_length or (2 * q["a"] + prob.margin + guard)
@@ -468,8 +480,7 @@ class _LineSolve:
         est = float("inf")
         lv = _Level(levels=[], ests=[])
         for i, n in enumerate(sizes):
-            prob.say(f"{prob.model} model, fft: level {i + 1}, grid {n} points over {L:.4g} h"
-                     + (f" (estimate so far {est:.1e}, tol {tol:.0e})" if est < math.inf else ""))
+            prob.level(i + 1, (n,), (L,), est)
             g = Grid.centered(n, L, center)
             try:
                 cur, shifted, q0, q1 = self.solve_level(g, self.start(g, sol, q, prev, qprev))

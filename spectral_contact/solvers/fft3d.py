@@ -49,7 +49,7 @@ from ..physics.scene import Scene3D, check_positive
 from ..physics.transfer import F2, compressible_tangential_function, tanh_over, transfer_functions
 from ..result import ContactResult3D
 from .base import check_grid_points
-from .fft_driver import Problem
+from .fft_driver import Problem, run
 
 _VISCO_EDGE_CELLS = 4  # as solvers.fft (issue 23)
 _VISCO_EDGE_SHARE = 0.25
@@ -174,28 +174,11 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     # to two GMRES iterations per active-set step for digits no measure keeps; 1e-3 left the
     # surface 1.6e-7 d off the indenter at tol 3e-3, 1e-4 2e-9)
     prob.rtol = max(1e-10, 1e-4 * prob.accept)
-    if prob.P == 0.0:
-        Lx, Ly = domain_length or (prob.margin, prob.margin)
-        g = Grid.centered(grid_points or (MIN_POINTS_3D, MIN_POINTS_3D), (Lx, Ly))
-        z = np.zeros(g.shape)
-        q = measure_contact_2d(g, z, z, z > 0) | {"indentation": 0.0}
-        return ContactResult3D(scene, model, "fft", g.axes[0], g.axes[1], z, z, z, z, z, z, z, q,
-                               g.shape, g.lengths, 0, 0.0, 0.0, time.perf_counter() - prob.t0,
-                               0.0, counters=prob.counters)
-    surf = _SurfaceSolve(prob, grid_points, domain_length)
-    n0, L0 = surf.locator_grid()
-    if not grid_points and domain_length is None and not prob.with_law and not prob.visco \
-            and max(n0) > _OPEN_ABOVE:
-        # a small contact (issue 24): cells sized from the contact on an open box
-        return _solve_open(scene, model, tol, prob.film, surf.ind, prob.mu_contact, prob.c,
-                           prob.accept, prob.margin, prob.progress, prob.t0, prob.plans0,
-                           prob.counters)
-    L, center, widths = surf.periods(n0, L0)
-    return surf.result(surf.levels(surf.level_shapes(L, widths), L, center))
+    return run(_SurfaceSolve(prob, grid_points, domain_length))
 
 
 class _SurfaceSolve:
-    """The surface's resolution control over a ``Problem``: locate, periods, levels, result."""
+    """The surface's steps of the one driver (``fft_driver.run``)."""
 
     def __init__(self, prob: Problem, grid_points, domain_length):
         self.prob, self.scene = prob, prob.scene
@@ -204,6 +187,43 @@ class _SurfaceSolve:
         # a user grid on a user period (issue 25): no locator, whose contact would only be
         # checked against the period (~4-6 FFT-pair times of 512^2); the first level's is
         self.fixed_box = bool(grid_points) and domain_length is not None
+
+    def unloaded(self) -> ContactResult3D:
+        """P = 0: no contact, zero fields."""
+        prob = self.prob
+        Lx, Ly = self.domain_length or (prob.margin, prob.margin)
+        g = Grid.centered(self.grid_points or (MIN_POINTS_3D, MIN_POINTS_3D), (Lx, Ly))
+        z = np.zeros(g.shape)
+        q = measure_contact_2d(g, z, z, z > 0) | {"indentation": 0.0}
+        return ContactResult3D(prob.scene, prob.model, "fft", g.axes[0], g.axes[1], z, z, z, z, z,
+                               z, z, q, g.shape, g.lengths, 0, 0.0, 0.0,
+                               time.perf_counter() - prob.t0, 0.0, counters=prob.counters)
+
+    def shortcut(self):
+        """A small contact (issue 24): cells sized from the contact on an open box (the result),
+        when the periodic locator would need more than _OPEN_ABOVE points per axis; else None."""
+        prob = self.prob
+        self.n0, self.L0 = self.locator_grid()
+        if not self.grid_points and self.domain_length is None and not prob.with_law \
+                and not prob.visco and max(self.n0) > _OPEN_ABOVE:
+            return _solve_open(prob.scene, prob.model, prob.tol, prob.film, self.ind,
+                               prob.mu_contact, prob.c, prob.accept, prob.margin, prob.progress,
+                               prob.t0, prob.plans0, prob.counters)
+        return None
+
+    def locate(self):
+        """1. the contact on the locator's grid: (sol, q); None on a fixed box (issue 25)."""
+        if self.fixed_box:
+            return None
+        _check_size(self.n0, "locating the contact")
+        self.prob.say(f"locating the contact on a {self.n0[0]} x {self.n0[1]} grid")
+        sol = self.contact(Grid.centered(self.n0, self.L0), locator=True)
+        return sol, _measure(sol, self.ind)
+
+    def refine(self, period):
+        """3. the levels on the periods (``levels``)."""
+        L, center, widths = period
+        return self.levels(self.level_shapes(L, widths), L, center)
 
     def contact(self, grid, p_init=None, locator=False):
         prob, film = self.prob, self.prob.film
@@ -245,16 +265,13 @@ class _SurfaceSolve:
                 f"({width_x:.3g} x {width_y:.3g} h) plus {free:.3g} h for its images to decay "
                 f"below tol/2: at least ({need[0]:.4g}, {need[1]:.4g}) h, or leave it automatic")
 
-    def periods(self, n0, L0):
+    def period(self, located):
         """2. the periods: the contact plus the decay margin, centred on the contact (a fixed
         box: the user's).  (L, center, (width_x, width_y) or None)."""
         prob, dl = self.prob, self.domain_length
-        if self.fixed_box:
+        if located is None:
             return dl, (0.0, 0.0), None
-        _check_size(n0, "locating the contact")
-        prob.say(f"locating the contact on a {n0[0]} x {n0[1]} grid")
-        sol = self.contact(Grid.centered(n0, L0), locator=True)
-        q = _measure(sol, self.ind)
+        sol, q = located
         width_x = q["x_max"] - q["x_min"]
         width_y = q["y_max"] - q["y_min"]
         if dl is not None:
@@ -307,8 +324,7 @@ class _SurfaceSolve:
         for i, shape in enumerate(levels):
             _check_size(shape, f"tol {tol:g}")
             g = Grid.centered(shape, L, center)
-            prob.say(f"level {i + 1}: {shape[0]} x {shape[1]} grid, "
-                     f"{time.perf_counter() - prob.t0:.1f} s")
+            prob.level(i + 1, shape, L, est)
             if prev is not None and prev.grid.shape == tuple(n // 2 for n in shape):
                 p_init = nested_guess(prev, g)
             else:

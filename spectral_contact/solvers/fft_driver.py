@@ -1,10 +1,17 @@
-"""What the FFT method's drivers share, lines (``solvers.fft``) and surfaces (``solvers.fft3d``):
-the problem's setup (the scene's film in the core's units, the contact friction of the model,
-the decay margin, the accepted residual, the friction law and the interface), the one dispatch
-of a contact solve (Amontons, or a friction law / compliant interface: an outer fixed point),
-the work counters summed over every solve, the final surface shear, the timings and the
-progress lines.  What differs by dimension (the level sizes, the measures, the estimate) stays
-in the driver of each.
+"""The FFT method's one driver, lines (``solvers.fft``) and surfaces (``solvers.fft3d``).
+
+``run(steps)`` is the resolution control of both: an unloaded scene, else (a shortcut: the
+surfaces' open box for small contacts) locate the contact on a coarse generous grid, set the
+period(s) from it and the decay margin, refine the grid by doublings from a nested start until
+the error estimate is below tol, and make the result (base stresses, info, counters).  What
+differs by dimension are the steps of ``steps`` (``_LineSolve``, ``_SurfaceSolve``): small
+methods ``unloaded``, ``shortcut``, ``locate``, ``period``, ``refine``, ``result``.
+
+``Problem`` is what both share: the setup (the scene's film in the core's units, the contact
+friction of the model, the decay margin, the accepted residual, the friction law and the
+interface), the one dispatch of a contact solve (Amontons, or a friction law / compliant
+interface: an outer fixed point), the work counters summed over every solve, the final surface
+shear, the timings and the progress line of each level.
 """
 from __future__ import annotations
 
@@ -15,7 +22,7 @@ from ..numerics.fft import planning_time
 from ..numerics.friction import solve_contact_law
 from ..physics.friction import ShearLaw
 
-__all__ = ["Problem", "LOCATOR_RTOL", "LOCATOR_ACCEPT", "LOCATOR_SEARCH_RTOL"]
+__all__ = ["Problem", "run", "LOCATOR_RTOL", "LOCATOR_ACCEPT", "LOCATOR_SEARCH_RTOL"]
 
 LOCATOR_RTOL = 1e-6
 LOCATOR_ACCEPT = 1e-3
@@ -103,6 +110,28 @@ class Problem:
         return total - plan_time, plan_time
 
     def say(self, text: str) -> None:
-        """A progress line (a level, the locator)."""
+        """A progress line (the locator)."""
         if self.progress:
             self.progress(text)
+
+    def level(self, i: int, shape, lengths, est: float) -> None:
+        """The progress line of refinement level ``i`` (from 1): its grid over its period(s),
+        the time so far and the estimate so far -- the same line for lines and surfaces."""
+        if not self.progress:
+            return
+        grid = " x ".join(str(n) for n in shape)
+        period = " x ".join(f"{L:.4g}" for L in lengths)
+        so_far = f", estimate so far {est:.1e} (tol {self.tol:.0e})" if est < float("inf") else ""
+        self.progress(f"{self.model} model, fft: level {i}: grid {grid} points over {period} h, "
+                      f"{time.perf_counter() - self.t0:.1f} s{so_far}")
+
+
+def run(steps):
+    """The resolution control of the FFT method, lines and surfaces (module docstring):
+    ``steps`` holds the ``Problem`` (``steps.prob``) and the dimension's steps."""
+    if steps.prob.P == 0.0:
+        return steps.unloaded()
+    done = steps.shortcut()
+    if done is not None:
+        return done
+    return steps.result(steps.refine(steps.period(steps.locate())))
