@@ -33,19 +33,17 @@ import warnings
 
 import numpy as np
 
-from ..errors import ConvergenceError, InputError, named
+from ..errors import ConvergenceError, InputError
 from ..numerics.contact import refine_nested
 from ..numerics.edges import fit_edges, peak
 from ..numerics.fft import get_rfft
 from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.interface import solve_exponential_contact
-from ..physics.scene import Scene, Scene3D, check_positive
+from ..physics.scene import Scene
 from ..result import ContactResult
-from .base import Method, check_grid_points, register
-from .fft3d import solve_fft3d
 from .fft_driver import Problem, run
 
-__all__ = ["solve_fft", "FFTMethod", "MIN_POINTS", "MAX_POINTS"]
+__all__ = ["solve_fft", "MIN_POINTS", "MAX_POINTS"]
 
 _log = logging.getLogger(__name__)  # progress (INFO): one line per refinement level
 
@@ -78,7 +76,6 @@ def _unresolved_edges(edge_scales, a, dx):
 # (fft_driver.LOCATOR_*: measured fewer GMRES iterations, no more active-set steps over P
 # 0.09-1773, mu 0-10)
 _RTOL_FLOOR, _RTOL_CAP = 1e-10, 1e-9  # the inner solves' relative tolerance: 1e-3 accept, within these
-_BYTES_PER_POINT = 400  # peak Python-side memory of a fixed-N solve (tracemalloc, N = 2^14..2^18)
 
 
 def _locator_guess(g, P, a_bound, mu):
@@ -594,48 +591,3 @@ def _check_stagnation(ests, n, est, tol, levels: int) -> None:
             f"{n >> k} and still {est:.1e} at N = {n} > tol {tol:.1e}; the scene is "
             f"beyond the FFT method's range at this tol (try method abel)",
             residuals=ests, iterations=levels)
-
-
-@register
-class FFTMethod(Method):
-    """The spectral method: periodic grid, film symbols by FFT, active set + GMRES.
-
-    Options: ``grid_points`` (even, 64 ... 2^22; a power of two is fastest) and
-    ``domain_length`` (the period, in h, > 0), each fixed instead of chosen from ``tol``."""
-
-    name = "fft"
-
-    def __init__(self, tol: float = 1e-4, grid_points=None, domain_length=None):
-        super().__init__(tol)
-        # the options' meaning depends on the scene: checked in solve (line: here; 3D: per axis,
-        # by solvers.fft3d)
-        self.grid_points = grid_points
-        self.domain_length = domain_length
-
-    def _line_options(self):
-        grid_points, domain_length = self.grid_points, self.domain_length
-        if np.ndim(grid_points) or np.ndim(domain_length):
-            raise InputError("grid_points and domain_length are single numbers for a line "
-                             "indenter (pairs [nx, ny], [Lx, Ly] are for 3D indenters)")
-        shown = f"[{MIN_POINTS}, {MAX_POINTS}] (2^22)"
-        big = check_grid_points(grid_points, MIN_POINTS, 2**62, "fft grid points", even=True,
-                                shown=shown) \
-            if isinstance(grid_points, (int, float)) and grid_points > MAX_POINTS else None
-        if big is not None:  # before allocating anything
-            raise InputError(
-                f"{named('grid_points')} (fft grid points) must be in {shown}; {big} would need "
-                f"~{big * _BYTES_PER_POINT / 1e9:.1f} GB")
-        grid_points = check_grid_points(grid_points, MIN_POINTS, MAX_POINTS, "fft grid points",
-                                        even=True, shown=shown)
-        if domain_length is not None:
-            domain_length = check_positive("domain_length", domain_length, "h")
-        return grid_points, domain_length
-
-    def solve(self, scene, model: str, progress=None):
-        """A ContactResult for a plane-strain ``Scene``; a ContactResult3D for a ``Scene3D``."""
-        model = self.check_model(model)
-        if isinstance(scene, Scene3D):
-            return solve_fft3d(scene, model, self.tol, self.grid_points, self.domain_length,
-                               progress=progress)
-        grid_points, domain_length = self._line_options()
-        return solve_fft(scene, model, self.tol, grid_points, domain_length)
