@@ -1,4 +1,4 @@
-"""Partial slip of a sphere on the film, one load step at a time (numerics.partial_slip2d):
+"""Partial slip of a sphere on the film, one load step at a time (numerics.partial_slip):
 the surface core of issue 22 (the sphere's driver, CLI and result are not written yet).
 
 In the half-space limit (a/h = 0.1) the stick zone follows Mindlin's c = a (1 - Q/(mu P))^(1/3)
@@ -17,7 +17,7 @@ import pytest
 
 from spectral_contact.numerics.contact import solve_contact
 from spectral_contact.numerics.grid import Grid
-from spectral_contact.numerics.partial_slip2d import (
+from spectral_contact.numerics.partial_slip import (
     PartialSlipOperator2D,
     SlipState2D,
     solve_slip_step_2d,

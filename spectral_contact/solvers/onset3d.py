@@ -1,5 +1,5 @@
 """The onset of sliding of a 3D indenter (sphere, paraboloid) on the film: partial slip under a
-growing tangential load along x, the slip direction solved (``numerics.partial_slip2d``).
+growing tangential load along x, the slip direction solved (``numerics.partial_slip``, the same driver as lines).
 
 As ``solvers.onset`` for lines: the normal load first (frictional in ``loading_steps`` steps,
 or frictionless), then Q = mu P k/N along x (with ``cycle``: down to -amplitude and back), the
@@ -28,7 +28,7 @@ from ..numerics.contact import solve_contact
 from ..numerics.fft import get_rfft
 from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.measure2d import measure_contact_2d
-from ..numerics.partial_slip2d import PartialSlipOperator2D, SlipState2D, solve_slip_step_2d
+from ..numerics.partial_slip import PartialSlipOperator2D, SlipState2D, solve_slip_step_2d
 from ..physics.film import Film
 from ..physics.indenters import Paraboloid
 from ..physics.scene import Scene3D, check_tol
