@@ -28,16 +28,16 @@ from ..numerics.contact import solve_contact
 from ..numerics.fft import get_rfft
 from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.measure2d import measure_contact_2d
-from ..numerics.partial_slip import PartialSlipOperator2D, SlipState2D, solve_slip_step_2d
+from ..numerics.partial_slip import SlipState2D
 from ..physics.film import Film
 from ..physics.indenters import Paraboloid
 from ..physics.scene import Scene3D, check_tol
 from .fft3d import MAX_POINTS_3D, MIN_POINTS_3D, solve_fft3d
+from .onset_core import Dimension, LoadingRun, differences, refine, step_record
 
 __all__ = ["solve_onset3d", "OnsetResult3D", "DEFAULT_TOL_3D", "STEP_KEYS_3D"]
 
 DEFAULT_TOL_3D = 1e-2
-_LEVEL_MARGIN = 1.5
 _IMAGE_AMPLITUDE = 2.0
 STEP_KEYS_3D = ("Q_over_muP", "tangential_force_N", "stick_area_m2", "stick_radius_m",
                 "stick_x_min_m", "stick_x_max_m", "contact_radius_m", "contact_center_m",
@@ -93,72 +93,40 @@ def _predict(s0: SlipState2D, s1: SlipState2D, f: np.ndarray, mu: float):
     return g
 
 
-class _Run3D:
-    def __init__(self, grid, film, ind, P, mu, path, loading, loading_steps, accept,
-                 progress=None):
-        self.grid = grid
-        op = PartialSlipOperator2D(grid, film)
-        f = np.asarray(ind.height(grid), dtype=float).ravel()
-        n = grid.size
-        amu = abs(mu)
+class _Surface(Dimension):
+    """The surface's part of the loading (``onset_core``): a sphere or paraboloid's heights,
+    Q along x, the predicted sets of ``_predict``, the measures of ``measure_contact_2d``."""
+
+    def __init__(self, ind):
+        self.ind = ind
+
+    def heights(self, grid):
+        return np.asarray(self.ind.height(grid), dtype=float).ravel()
+
+    def first_contact(self, grid, film, P1, accept):
+        ind = self.ind
+        s0 = solve_contact(grid, 0.0, [Paraboloid(ind.apex, P1, ind.cx, ind.cy)], film=film,
+                           accept=accept)  # (a sphere is a paraboloid here)
+        return (s0.active.ravel(), s0.pressure.ravel(), float(s0.indentations[0]),
+                s0.fft_pairs)
+
+    unloaded = staticmethod(SlipState2D.unloaded)
+
+    def tangential(self, Q):
+        return (Q, 0.0)
+
+    def predict(self, s0, s1, f, mu):
+        return _predict(s0, s1, f, mu)
+
+    def rtol(self, accept):
         # the inner (GMRES) solves to 1e-2 of the accepted residual: the linear system's
         # relative residual bounds the gap, stick and load rows' (max-norm) residuals
-        rtol = max(1e-10, 1e-2 * accept)
-        counters = {"fft_pairs": 0, "krylov_iterations": 0, "iterations": 0}
+        return max(1e-10, 1e-2 * accept)
 
-        def count(s):
-            counters["fft_pairs"] += s.fft_pairs
-            counters["krylov_iterations"] += s.krylov_iterations
-            counters["iterations"] += s.iterations
-
-        P1 = P / loading_steps if loading == "frictional" else P
-        ind1 = Paraboloid(ind.apex, P1, ind.cx, ind.cy)  # (a sphere is one)
-        s0 = solve_contact(grid, 0.0, [ind1], film=film, accept=accept)
-        counters["fft_pairs"] += s0.fft_pairs
-        if loading == "frictional":
-            state = SlipState2D.unloaded(n)
-            guess = SlipState2D.unloaded(n)
-            guess.contact = s0.active.ravel().copy()
-            guess.stick = guess.contact.copy()
-            guess.p = s0.pressure.ravel().copy()
-            guess.d = float(s0.indentations[0])
-            before = None
-            for k in range(1, loading_steps + 1):
-                if k > 1:
-                    guess = _predict(before, state, f, amu) if k > 2 else None
-                new = solve_slip_step_2d(op, f, state, P * k / loading_steps, (0.0, 0.0), amu,
-                                         guess=guess, accept=accept, rtol=rtol)
-                before, state = state, new
-                count(state)
-        else:
-            p = s0.pressure.ravel().copy()
-            w, u = op.apply(p, np.zeros((2, n)))
-            state = SlipState2D(p=p, q=np.zeros((2, n)), w=w, u=u, d=float(s0.indentations[0]),
-                                delta=np.zeros(2), contact=s0.active.ravel().copy(),
-                                stick=s0.active.ravel().copy(), sigma=np.zeros(n, dtype=np.int8),
-                                P=P, slip=np.zeros((2, n)))
-            state.t = np.zeros((2, n))
-        self.loaded = state
-        self.states = []
-        sgn = 1.0 if mu > 0 else -1.0
-        for k, r in enumerate(path, start=1):
-            guess = None
-            if k > 2 and (path[k - 1] - path[k - 2]) * (path[k - 2] - path[k - 3]) > 0:
-                guess = _predict(self.states[-2], state, f, amu)
-            state = solve_slip_step_2d(op, f, state, P, (sgn * amu * P * r, 0.0), amu,
-                                       accept=accept, rtol=rtol, guess=guess)
-            count(state)
-            self.states.append(state)
-            if progress:
-                progress(k, len(path), grid.shape[0])
-        self.counters = counters
-        self.measures = [self.measure(s, f) for s in [self.loaded] + self.states]
-
-    def measure(self, s, f):
+    def measure(self, g, s, f, mu):
         """The contact's area (the polygon through the sub-grid edges, ``measure_contact_2d``,
         as ``solve`` measures it), pressure centroid and peak; the stick zone's area (its
         nodes' cells) and x extent (node positions); d, delta."""
-        g = self.grid
         x = np.broadcast_to(g.coordinates()[0], g.shape).ravel()
         m = measure_contact_2d(g, s.p.reshape(g.shape), (f - s.d + s.w).reshape(g.shape),
                                s.contact.reshape(g.shape))
@@ -173,17 +141,10 @@ class _Run3D:
 
 
 def _differences(fine, coarse):
-    main, stick = [], []
-    dscale = max(max(abs(m["delta"]) for m in fine.measures), 1e-300)
-    for mf, mc in zip(fine.measures, coarse.measures):
-        r = max(mf["radius"], 1e-300)
-        main.append(max(abs(mf["radius"] - mc["radius"]) / r, abs(mf["xc"] - mc["xc"]) / r,
-                        abs(mf["d"] - mc["d"]) / max(abs(mf["d"]), 1e-300),
-                        abs(mf["pmax"] - mc["pmax"]) / max(mf["pmax"], 1e-300),
-                        abs(mf["delta"] - mc["delta"]) / dscale))
-        stick.append(abs(mf["stick_radius"] - mc["stick_radius"]) / r
-                     if mf["stick_nodes"] > 1 and mc["stick_nodes"] > 1 else 0.0)
-    return main, stick
+    """Per step: ``onset_core.differences`` of the contact radius and centroid, and of the
+    stick zone's radius sqrt(area/pi) (over the contact radius)."""
+    return differences(fine, coarse, "radius", "xc", lambda mf, mc, r: abs(
+        mf["stick_radius"] - mc["stick_radius"]) / r)
 
 
 def solve_onset3d(scene: Scene3D, path, tol: float = DEFAULT_TOL_3D, *,
@@ -222,25 +183,17 @@ def solve_onset3d(scene: Scene3D, path, tol: float = DEFAULT_TOL_3D, *,
         -film.decay_rate * max(min(L[0] - (hi - lo), L[1] - 2 * ey), 0.0))
 
     def run(npts):
-        return _Run3D(Grid.centered((npts, npts), L, center), film, ind, P, mu, path, loading,
-                      loading_steps, accept, progress)
+        return LoadingRun(_Surface(ind), Grid.centered((npts, npts), L, center), film, P, mu,
+                          path, loading, loading_steps, accept, progress)
 
-    coarse, fine = run(n // 2), run(n)
-    doubled = False
-    while True:
-        diff, sdiff = _differences(fine, coarse)
-        est = [_LEVEL_MARGIN * e + image for e in diff]
-        if grid_points or max(est) <= tol or doubled or 2 * n > MAX_POINTS_3D:
-            break
-        coarse, fine, n = fine, run(2 * n), 2 * n
-        doubled = True
-    met = max(est) <= tol
+    fine, est, stick_est, met, n, _, counters = refine(
+        run, n, tol, image, _differences, fixed=bool(grid_points), max_doublings=1,
+        max_points=MAX_POINTS_3D)
     if not met and not grid_points:
         raise ConvergenceError(f"onset (3D): error estimate {max(est):.1e} > tol {tol:g} at "
                                f"{n}^2 points; raise tol or fix grid_points", residuals=est)
-    counters = {k: fine.counters[k] + coarse.counters[k] for k in fine.counters}
     return OnsetResult3D(scene, list(path), loading, loading_steps, tol, fine, est,
-                         [_LEVEL_MARGIN * e for e in sdiff], steady, met,
+                         stick_est, steady, met,
                          time.perf_counter() - t0, counters, film)
 
 
@@ -286,22 +239,12 @@ class OnsetResult3D:
 
     def _si_step(self, k: int) -> dict:
         sc, m = self.scene, self.measures[k]
-        h, dU, sU = sc.length_unit, sc.displacement_unit, sc.stress_unit
-        r = float(self.Q_over_muP[k])
-        return {
-            "Q_over_muP": r,
-            "tangential_force_N": r * sc.mu * sc.force,
-            "stick_area_m2": m["stick_area"] * h * h,
-            "stick_radius_m": m["stick_radius"] * h,
+        h = sc.length_unit
+        return step_record(self, k, {
+            "tangential_force_N": float(self.Q_over_muP[k]) * sc.mu * sc.force,
+            "stick_area_m2": m["stick_area"] * h * h, "stick_radius_m": m["stick_radius"] * h,
             "stick_x_min_m": m["stick_lo"] * h, "stick_x_max_m": m["stick_hi"] * h,
-            "contact_radius_m": m["radius"] * h,
-            "contact_center_m": m["xc"] * h,
-            "indentation_m": m["d"] * dU,
-            "max_pressure_Pa": m["pmax"] * sU,
-            "tangential_displacement_m": m["delta"] * dU,
-            "error_estimate": self.error_estimates[k],
-            "stick_error_estimate": self.stick_error_estimates[k],
-        }
+            "contact_radius_m": m["radius"] * h, "contact_center_m": m["xc"] * h})
 
     def summary(self) -> dict:
         sc = self.scene
