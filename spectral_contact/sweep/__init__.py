@@ -33,7 +33,8 @@ slowest), one name per quantity, with its unit, the names of ``solve --json``:
 - ``key``;
 - the options, each under its column (``column(name)``): ``indenter``, ``load_N_per_m``
   (``load``), ``force_N`` (``force``), ``mu``, ``young_Pa``, ``radius_m``, ``thickness_m``,
-  ``length_m``, ``radius_x_m``, ``radius_y_m``, ``model``, ``method``, ``tol``, ``grid_points``,
+  ``length_m``, ``radius_x_m``, ``radius_y_m``, ``speed_m_per_s`` (``speed``), ``prony_terms``
+  (``prony``: [[E_i, tau_i], ...]), ``model``, ``method``, ``tol``, ``grid_points``,
   ``domain_length_m``: the value of the scene (a line's ``force_N`` and a 3D indenter's
   ``load_N_per_m`` are empty; an option left empty whose value the solve reports -- a
   paraboloid's ``radius_x_m`` -- holds that value);

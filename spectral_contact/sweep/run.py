@@ -63,8 +63,9 @@ def sweep(spec=None, *, out=None, engine: str = "local", workers: int | None = N
         batched into tasks of ~TASK_SECONDS), elapsed_s.
     **options
         ``OPTIONS``: indenter, load, force, mu, young, radius, thickness, length, radius_x,
-        radius_y, model, method, tol, grid_points, domain_length: a value, a list, or a string of
-        comma lists / start:stop:step ranges (SI).
+        radius_y, speed, prony, model, method, tol, grid_points, domain_length: a value, a list,
+        or a string of comma lists / start:stop:step ranges (SI); prony: Prony series
+        ("E1,tau1,..."), several separated by ';' or in a list.
 
     Returns
     -------

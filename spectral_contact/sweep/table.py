@@ -35,7 +35,7 @@ def _options() -> dict:
     out = {}
     for o in _table.OPTIONS:
         if o.sweep:
-            d = o.default if o.scenes in ("both", "solve") else None
+            d = o.default if o.scenes in ("both", "solve") and o.kind is not tuple else None
             out[o.name] = (o.kind, d, o.choices if o.kind is str else o.unit, o.cli_help())
     return out
 
@@ -119,12 +119,43 @@ def _one(name: str, p, kind, choices) -> list:
     return [_number(name, p, kind)]
 
 
+def _is_pairs(value) -> bool:
+    return isinstance(value, (list, tuple)) and all(
+        isinstance(t, (list, tuple)) and len(t) == 2 and
+        all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in t) for t in value)
+
+
+def _structured(name: str, value) -> list:
+    """The values of a structured option (``kind`` tuple: the Prony terms): a string of series
+    separated by ';' ("2.2e6,0.01;1e6,0.1"), one series as pairs, or a list of series; each
+    parsed by the option's own parser (``physics.options``) into a list of [E_i, tau_i]."""
+    if isinstance(value, str):
+        specs = [p.strip() for p in value.split(";")]
+    elif value is None or _is_pairs(value):
+        specs = [value]
+    else:
+        specs = list(value)
+    out = []
+    for spec in specs:
+        if spec is None:
+            out.append(None)
+            continue
+        terms = _table.option(name).check(spec) if spec != "" else None
+        if not terms:
+            raise InputError(f"--{_flag(name)}: an empty series in {value!r:.60}")
+        out.append([list(t) for t in terms])
+    return out
+
+
 def parse_values(name: str, value) -> list:
     """The list of values of option ``name`` from a spec: a scalar, a list, or a string of comma
-    separated numbers / choices / start:stop:step ranges.  Raises InputError naming the option."""
+    separated numbers / choices / start:stop:step ranges (the Prony terms: series separated by
+    ';').  Raises InputError naming the option."""
     if name not in OPTIONS:
         raise InputError(f"unknown option {name!r} (accepted: {', '.join(OPTIONS)})")
     kind, _, choices, _ = OPTIONS[name]
+    if kind is tuple:
+        return _unique(_structured(name, value))
     items = value if isinstance(value, (list, tuple)) else [value]
     out = []
     for item in items:
@@ -138,7 +169,15 @@ def parse_values(name: str, value) -> list:
             out.extend(_one(name, p, kind, choices))
     if not out:
         raise InputError(f"--{_flag(name)}: no values")
-    return list(dict.fromkeys(out))  # a value given twice is one scene
+    return _unique(out)
+
+
+def _unique(values: list) -> list:
+    """A value given twice is one scene (lists compared by their JSON)."""
+    seen = {}
+    for v in values:
+        seen.setdefault(json.dumps(v) if isinstance(v, list) else v, v)
+    return list(seen.values())
 
 
 def read_spec(path) -> dict:
@@ -185,6 +224,7 @@ def scenes(options: dict) -> list[dict]:
     if unknown:
         raise InputError(f"unknown option {unknown[0]!r} (accepted: {', '.join(OPTIONS)})")
     given = {k: parse_values(k, v) for k, v in options.items() if v is not None}
+    _table.check_needs(given)  # --prony needs --speed, as on solve's command line
     check_product(given)  # issue 24: before enumerating
     names = list(given)
     rows = []
@@ -247,7 +287,9 @@ def _summary_keys() -> list[str]:
 
     keys = list(JSON_KEYS)
     keys += [k for k in JSON_KEYS_3D if k not in keys]
-    return keys + ["length_m", "radius_x_m", "radius_y_m", "auto_reason"]
+    keys += ["length_m", "radius_x_m", "radius_y_m", "auto_reason", "speed_m_per_s",
+             "prony_terms", "deformation_friction"]
+    return list(dict.fromkeys(keys))
 
 
 def _result_columns() -> list[str]:
