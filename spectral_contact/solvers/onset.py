@@ -49,7 +49,7 @@ from ..numerics.partial_slip import PartialSlipOperator, SlipState, solve_slip_s
 from ..physics.film import Film
 from ..physics.indenters import Cylinder
 from ..physics.scene import Scene, Scene3D, check_tol
-from .base import check_grid_points
+from .base import ONSET_MU_MIN, check_grid_points, check_onset_mu  # noqa: F401 (re-exported)
 from .fft import MAX_POINTS, MIN_POINTS, solve_fft
 
 __all__ = ["onset", "solve_onset", "OnsetResult", "STEP_KEYS", "PROFILE_COLUMNS", "MAX_STEPS",
@@ -77,19 +77,6 @@ def _check_int(name: str, value, lo: int, hi: int) -> int:
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not lo <= value <= hi:
         raise InputError(f"{name} must be an integer in [{lo}, {hi}]; got {value!r:.40}")
     return int(value)
-
-
-ONSET_MU_MIN = 1e-6
-"""The smallest |mu| onset takes: below it the tangential load mu P is below what the partial
-slip iteration resolves (|mu| 1e-200 and below crashed it; 1e-100 ... 1e-8 did not converge)."""
-
-
-def check_onset_mu(mu) -> float:
-    """|mu| >= ONSET_MU_MIN (the tangential load goes up to mu P)."""
-    if not abs(mu) >= ONSET_MU_MIN:
-        raise InputError(f"{named('mu')} must be != 0 for onset, |mu| >= {ONSET_MU_MIN:g} (the "
-                         f"tangential load goes up to mu P); got {mu:g}")
-    return mu
 
 
 def check_onset_scene(scene) -> Scene:

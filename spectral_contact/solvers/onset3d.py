@@ -29,8 +29,8 @@ from ..numerics.partial_slip2d import PartialSlipOperator2D, SlipState2D, solve_
 from ..physics.film import Film
 from ..physics.indenters import Paraboloid
 from ..physics.scene import Scene3D, check_tol
+from .base import check_onset_mu
 from .fft3d import MAX_POINTS_3D, MIN_POINTS_3D, solve_fft3d
-from .onset import check_onset_mu
 
 __all__ = ["solve_onset3d", "OnsetResult3D", "DEFAULT_TOL_3D", "STEP_KEYS_3D"]
 
