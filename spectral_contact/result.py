@@ -25,7 +25,7 @@ level of the resolution control."""
 JSON_KEYS = (
     "model", "method", "load_N_per_m", "mu", "young_Pa", "poisson", "radius_m", "thickness_m",
     "half_width_m", "contact_center_m", "x0_m", "indentation_m", "max_pressure_Pa",
-    "max_pressure_x_m", "contact_intervals_m", "friction_law", "Q_over_P",
+    "max_pressure_x_m", "contact_intervals_m", "friction_law", "Q_over_P", "deformation_friction",
     "interface_compliance_m_per_Pa", "interface_law", "grid_points", "domain_length_m",
     "iterations", "residual", "error_estimate", "tolerance_met", "wall_time_s", "plan_time_s",
 )
@@ -174,11 +174,12 @@ class ContactResult:
 
     @property
     def Q_over_P(self) -> float:  # noqa: N802 (the JSON key)
-        """The macroscopic Q/P: ``friction_ratio`` (+ ``deformation_friction`` for a
-        viscoelastic film, issue 23: Q = Int q dx + Int p df/dx dx)."""
-        if getattr(self.scene, "viscoelastic", False):
-            return self.friction_ratio + self.deformation_friction
-        return self.friction_ratio
+        """The macroscopic Q/P, the horizontal force on the indenter over the load, for every
+        film (elastic or viscoelastic; issue 23): Q = Int q dx + Int p df/dx dx, i.e.
+        ``friction_ratio`` (the interface's Int q / Int p: mu for Amontons) +
+        ``deformation_friction`` (the pressure on the inclined indenter: (h/R) x_p; on an
+        elastic film it is nonzero with friction only, 0.0118 at the paper's scene, mu 2)."""
+        return self.friction_ratio + self.deformation_friction
 
     @property
     def deformation_friction(self) -> float:
@@ -246,8 +247,7 @@ class ContactResult:
         if self.auto_reason is not None:
             rec["auto_reason"] = self.auto_reason
         if getattr(self.scene, "viscoelastic", False):  # issue 23
-            rec |= {"speed_m_per_s": self.speed_m_per_s, "prony_terms": self.prony_terms,
-                    "deformation_friction": self.deformation_friction}
+            rec |= {"speed_m_per_s": self.speed_m_per_s, "prony_terms": self.prony_terms}
         return rec
 
     def summary(self) -> dict:
@@ -413,7 +413,8 @@ def _plot(result, ax=None, sensor=None):
 
 JSON_KEYS_3D = (
     "model", "method", "indenter", "force_N", "mu", "young_Pa", "poisson", "radius_m",
-    "thickness_m", "friction_law", "Q_over_P", "interface_compliance_m_per_Pa", "contact_area_m2",
+    "thickness_m", "friction_law", "Q_over_P", "deformation_friction",
+    "interface_compliance_m_per_Pa", "contact_area_m2",
     "contact_radius_m", "contact_x_min_m", "contact_x_max_m",
     "contact_y_half_width_m", "pressure_centroid_x_m", "indentation_m", "max_pressure_Pa",
     "max_pressure_x_m", "max_pressure_y_m", "line_load_y0_N_per_m", "grid_points",
@@ -533,8 +534,11 @@ class ContactResult3D:
             "force_N": s.force, "mu": s.mu, "young_Pa": s.young, "poisson": s.poisson,
             "radius_m": s.radius, "thickness_m": s.thickness,
         } | s.friction.describe() | {
+            # Q/P = Int q / P + mu_def, mu_def = Int p df/dx / P (as the line's record)
             "Q_over_P": (float(s.mu) if self.shear is None else
-                         float(np.sum(self.shear)) / max(float(np.sum(self.pressure)), 1e-300)),
+                         float(np.sum(self.shear)) / max(float(np.sum(self.pressure)), 1e-300))
+            + float(self.info.get("deformation_friction", 0.0)),
+            "deformation_friction": float(self.info.get("deformation_friction", 0.0)) + 0.0,
             "interface_compliance_m_per_Pa": s.interface_compliance,
         }
         if s.indenter == "cylinder":
@@ -562,10 +566,7 @@ class ContactResult3D:
             "plan_time_s": float(self.plan_time_s),
         })
         if getattr(s, "viscoelastic", False):  # issue 23: as the line's record
-            mu_def = float(self.info.get("deformation_friction", 0.0))
-            out["Q_over_P"] += mu_def
-            out |= {"speed_m_per_s": float(s.speed), "prony_terms": [list(t) for t in s.prony],
-                    "deformation_friction": mu_def}
+            out |= {"speed_m_per_s": float(s.speed), "prony_terms": [list(t) for t in s.prony]}
         return out
 
     def maps(self) -> dict:

@@ -12,9 +12,9 @@ speed      mu_def, half-width a, x0 and Q/P against V over 8 decades (1e-6 ... 1
 sphere     the sphere (3D, F = 1 N, mu = 0, tol 1e-2) at a few speeds.
 estimate   the error estimate against the true error (a much finer, twice longer fixed grid:
            2^21 points over twice the period) over V, tol 1e-3 and 1e-4, mu 0 and 1.
-reference  small contacts (a_H/h = 0.01): the film solver against the independent x-space
-           collocation of the SLS half-space (reference.sls_halfspace: Hunter's problem; his
-           closed form was not found, this is a numerical solution of the same problem).
+reference  small contacts (a_H/h = 0.01 ... 0.001): the film solver and the independent x-space
+           collocation (reference.sls_halfspace) against Hunter's closed form for the SLS
+           half-space (reference.hunter: derived here, his paper's formulas not found).
 claim      the paper's "purely elastic" film: a standard linear solid whose peak loss tangent is
            0.1 (no published Prony series of Sylgard 184 was retrieved here: arXiv 2402.07555
            fits one, its coefficients were not accessible), against the elastic film E_inf =
@@ -36,6 +36,7 @@ import numpy as np
 from spectral_contact import solve
 from spectral_contact.errors import ConvergenceError, InputError
 from spectral_contact.physics.scene import Scene
+from spectral_contact.reference.hunter import hunter_contact
 from spectral_contact.reference.sls_halfspace import sls_halfspace_contact
 from spectral_contact.solvers.fft import solve_fft
 
@@ -149,28 +150,40 @@ def part_estimate(quick: bool, out, t0) -> list[dict]:
 
 
 def part_reference(quick: bool, out, t0) -> list[dict]:
-    P = 2.0 * math.pi * 1e-4  # a_H/h = 0.01
+    """Hunter's closed form (reference.hunter, derived) against the film solver and the x-space
+    collocation (a_H/h = 0.01), and the film's departure from the half-space as the tail l_r
+    reaches the thickness (a_H/h = 0.01, 0.003, 0.001 at the same l_r/a)."""
     base = Scene(**FILM)
     rows = []
-    lrs = (3e-3, 3e-2) if quick else (1e-3, 3e-3, 1e-2, 3e-2)
+    cases = [(0.01, lr) for lr in ((3e-3, 3e-2) if quick else (1e-3, 3e-3, 1e-2, 3e-2, 0.14, 1.4))]
+    if not quick:
+        cases += [(0.003, 0.042), (0.003, 0.42), (0.001, 0.014), (0.001, 0.14)]
     tol = 1e-3 if quick else 1e-4
-    for lr in lrs:
+    for ah, lr in cases:
+        P = 2.0 * math.pi * ah * ah
         V = lr * FILM["thickness"] / (2.0 * TAU)  # tau_r = 2 tau
         s = Scene(load=P * base.stress_unit * base.length_unit, mu=0.0, speed=V, prony=SLS, **FILM)
-        r = solve(s, tol=tol)
-        o = sls_halfspace_contact(P, 0.5, lr, n=700 if quick else 1500)
-        a = o["a"]
-        mu_ref = o["centroid"] * FILM["thickness"] / FILM["radius"]
-        rows.append({"l_r_over_a": lr / a, "speed_m_per_s": V, "a_fft_h": r.half_width,
-                     "a_ref_h": a, "x_c_fft_h": r.center, "x_c_ref_h": o["c"],
-                     "mu_def_fft": r.deformation_friction, "mu_def_ref": mu_ref,
-                     "da_over_a": (r.half_width - a) / a, "dxc_over_a": (r.center - o["c"]) / a,
-                     "dmu_over_mu": (r.deformation_friction - mu_ref) / mu_ref,
-                     "ref_dx_over_a": o["dx"] / a, "error_estimate": r.error_estimate})
-        progress(len(rows), len(lrs), f"reference l_r = {lr:g} h", t0)
+        r = solve(s, tol=tol if ah >= 0.01 else 1e-3)  # (a/h < 0.01 at 1e-4: > 2^22 points)
+        h = hunter_contact(P, 0.5, lr)
+        a, c = h["a"], h["c"]
+        mu_h = h["centroid"] * FILM["thickness"] / FILM["radius"]
+        row = {"a_H_over_h": ah, "l_r_over_h": lr, "l_r_over_a": lr / a, "speed_m_per_s": V,
+               "a_hunter_h": a, "x_c_hunter_h": c, "mu_def_hunter": mu_h,
+               "da_over_a": (r.half_width - a) / a, "dxc_over_xc": (r.center - c) / c,
+               "dxc_over_a": (r.center - c) / a,
+               "dmu_over_mu": (r.deformation_friction - mu_h) / mu_h,
+               "tol": tol if ah >= 0.01 else 1e-3, "error_estimate": r.error_estimate,
+               "grid_points": r.grid_points}
+        if ah == 0.01 and lr <= 0.14:  # the collocation against the closed form
+            o = sls_halfspace_contact(P, 0.5, lr, n=700 if quick else 1500)
+            row.update({"colloc_da_over_a": (o["a"] - a) / a, "colloc_dxc_over_a": (o["c"] - c) / a,
+                        "colloc_dmu_over_mu": (o["centroid"] - h["centroid"]) / h["centroid"],
+                        "colloc_dx_over_a": o["dx"] / a})
+        rows.append(row)
+        progress(len(rows), len(cases), f"reference a/h = {ah:g}, l_r = {lr:g} h", t0)
     table(rows, out / "viscoelastic_reference.csv",
-          f"a_H/h = 0.01 on the film (fft, tol {tol:g}) against the SLS half-space by x-space "
-          f"collocation (E_0 = 2 E_inf), lengths in h")
+          f"the film (fft, tol {tol:g}) and the x-space collocation against Hunter's closed form "
+          f"(SLS half-space, E_0 = 2 E_inf), lengths in h")
     return rows
 
 
@@ -179,9 +192,8 @@ def _changes(r, el) -> dict:
     szz = np.interp(el.x, r.x, r.base_sigma_zz, period=r.domain_length)
     sxz = np.interp(el.x, r.x, r.base_sigma_xz, period=r.domain_length)
     return {"d_a": abs(r.half_width / a - 1.0), "d_x0": abs(r.x0 - el.x0) / a,
-            # Q/P = mu + mu_def on both films (the elastic record's Q_over_P is mu alone; its
-            # geometric term (h/R) x_p is ContactResult.deformation_friction)
-            "d_Q_over_P": abs(r.Q_over_P / (el.friction_ratio + el.deformation_friction) - 1.0),
+            # Q/P = mu + mu_def on both films (one definition: ContactResult.Q_over_P)
+            "d_Q_over_P": abs(r.Q_over_P / el.Q_over_P - 1.0),
             "d_base_zz": float(np.max(np.abs(szz - el.base_sigma_zz)) / np.max(np.abs(el.base_sigma_zz))),
             "d_base_xz": float(np.max(np.abs(sxz - el.base_sigma_xz)) / np.max(np.abs(el.base_sigma_xz)))}
 

@@ -138,7 +138,11 @@ def test_cli_json_reports_law_and_q_over_p(capsys):
     assert 1.5 < rec["Q_over_P"] < 2.5
     assert main(["solve", "--json", "--tol", "1e-3"]) == 0
     rec = json.loads(capsys.readouterr().out)
-    assert rec["friction_law"] == "amontons" and rec["Q_over_P"] == rec["mu"]
+    # Q/P = mu + mu_def (issue 23: the pressure on the inclined indenter, (h/R) x_p, one
+    # definition for every film; > 0 with mu > 0: the pressure leans to the leading side)
+    assert rec["friction_law"] == "amontons"
+    assert rec["Q_over_P"] == rec["mu"] + rec["deformation_friction"]
+    assert 0 < rec["deformation_friction"] < 0.05 * rec["mu"]
 
 
 def test_friction_law_object_validation():
@@ -161,7 +165,8 @@ def test_friction_laws_and_interface_in_three_d():
         r = solve(indenter="sphere", force=0.5, mu=1.0, tol=1e-2, **kw)
         assert np.sum(r.base_sigma_xz) == pytest.approx(np.sum(r.shear), rel=1e-10)
         assert np.sum(r.base_sigma_yz) == pytest.approx(0.0, abs=1e-10 * np.sum(r.shear))
-        assert r.summary()["Q_over_P"] == pytest.approx(np.sum(r.shear) / np.sum(r.pressure))
+        assert r.summary()["Q_over_P"] == pytest.approx(np.sum(r.shear) / np.sum(r.pressure)
+                                                        + r.summary()["deformation_friction"])
         assert r.summary()["friction_law"] == kw["friction_law"]
     soft = solve(indenter="sphere", force=0.5, mu=1.0, tol=1e-2, interface_compliance=1e-10)
     assert soft.summary()["contact_radius_m"] > base.summary()["contact_radius_m"]
@@ -172,7 +177,7 @@ def test_three_d_cli_takes_the_laws_and_refuses_the_exponential_interface(capsys
                  "--friction-law", "power", "--friction-pref", "2e4",
                  "--friction-exponent", "0.1"]) == 0
     rec = json.loads(capsys.readouterr().out)
-    assert rec["friction_law"] == "power" and rec["Q_over_P"] < rec["mu"]
+    assert rec["friction_law"] == "power" and rec["Q_over_P"] - rec["deformation_friction"] < rec["mu"]
     assert main(["solve", "--indenter", "sphere", "--interface-law", "exponential",
                  "--interface-pressure", "1e5", "--interface-length", "1e-6"]) == 2
     err = capsys.readouterr().err.strip()

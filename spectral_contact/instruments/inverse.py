@@ -10,35 +10,42 @@ or through the sensor's apparatus functions (``view="sensor"``: d = S, S_zz = G_
 S_xz = G_xz (*) d_xz, ``instruments.sensor``; U files are divided by the gains first).
 
 Forward map (linear).  The surface tractions p(x) = -sigma_zz(x, h) >= 0 and q(x) = sigma_xz(x, h)
-are expanded in hat functions on nodes t_j of step dt <= h/8 (the film does not resolve much
-below h/few) covering the record plus a margin of ``MARGIN_H`` h on each side, so that the
-tractions near and beyond the ends of the window are modelled (the base field decays only as
-exp(-0.74 |x|/h): the tails that leave the window are not wrapped back, they are simply not
-observed).  The response of one hat function at the base is computed through the film's public
-base-stress transfer (``physics.film.Film.base_transfer``, physics.md A, B, C) times the
-apparatus symbols, on a fine periodic grid (step <= h/128, period the record's span plus 40 h,
-images < 1e-9), and interpolated at the lags x_i - t_j: the matrix M (2n x 2m) with
-d = M (p, q) + noise.
+are expanded in hat functions on nodes t_j (``inverse_forward.LineForward``).  The response of
+one hat function at the base is computed through the film's public base-stress transfer
+(``physics.film.Film.base_transfer``, physics.md A, B, C) times the apparatus symbols, on a fine
+periodic grid (step <= h/128, period the record's span plus 40 h, images < 1e-9), and
+interpolated at the lags x_i - t_j: the matrix M (2n x 2m) with d = M (p, q) + noise.  The
+base field decays only as exp(-0.74 |x|/h): what lies beyond the record is modelled (nodes may
+lie outside the record; the tails their tractions send beyond it are simply not observed,
+never wrapped back).
 
-Prior and hyperparameters.  p and q are independent zero-mean Gaussian processes on the nodes,
-Matern-5/2 covariance s^2 (1 + r + r^2/3) exp(-r), r = sqrt(5)|t - t'|/l, each with its own
-amplitude s and length l.  The noise is white, Gaussian, with one standard deviation per
-component (sigma_zz, sigma_xz).  The six hyperparameters (l_p, l_q, s_p, s_q, sigma_zz, sigma_xz)
-maximise the evidence (the marginal likelihood of the data, Gaussian, in closed form); none is
-set by hand.  ``summary()`` reports them and the log-evidence.
+Prior (default ``prior="contact"``, ``inverse_prior``): the tractions of a contact.  p is a
+smooth (Matern-5/2) process times the square-root profile of a window (a smooth indenter's
+pressure falls as the square root of the distance to the contact's edge); q = mu0 p + a smooth
+multiple of the same profile (a local mu varying across the contact) + a constant on the window
+(a shear strength: q steps at the edges); a white nugget on every node.  The window (the contact
+interval), the amplitudes, lengths, mu0 and the two noise sd (one per data component, white,
+Gaussian) maximise the evidence (the marginal likelihood, closed form, analytic gradient); none
+is set by hand.  Two passes: nodes every h/4 over the record +- ``MARGIN_H`` h to place the
+window (three starts), then nodes every h/16 on the window +- 1.5 h (the tractions are zero
+beyond: the prior's statement), with a scan of each edge against a second maximum of the
+evidence.  ``prior="envelope"``: the previous prior (Matern-1/2 processes inside an
+evidence-placed logistic envelope, nodes every h/8 over the record +- ``MARGIN_H`` h), kept for
+tractions that are not a contact's (no square-root edges).
 
-Posterior.  Gaussian: mean and covariance of the nodal tractions, given the hyperparameters
-(their own uncertainty is not propagated: empirical Bayes).  From it:
+Posterior.  Gaussian given the hyperparameters; with ``hyper=True`` (default, contact prior)
+the hyperparameters' own uncertainty is added to first order (Laplace: S + J Sigma_theta J^T,
+``inverse_prior.propagate``).  From it:
 
 * P = Int p dx, Q = Int q dx (the hat functions integrate to dt) and Q/P, with sigmas from the
   covariance (Q/P by the first-order (delta) rule with the P-Q correlation);
 * pointwise sd of p, q; mu_local = q/p with its delta-rule sd where p is *resolved*: the
   posterior mean exceeds 3 sd (``RESOLVED_Z``);
-* the contact interval: on each of 400 posterior draws, the outermost crossings around the peak
-  of the level 2 * (median sd of p) (the level below which p is not distinguished from 0);
-  reported as the mean and sd of the two edges over the draws;
-* the resolution length: the equivalent width (Int R)^2 / Int R^2 of the row of the resolution
-  matrix R = I - C K^-1 (how the posterior mean averages the truth) at the peak of p.
+* the contact interval: the contact prior's window, with the sd of its edges from the Laplace
+  covariance of the hyperparameters (envelope prior: from 400 posterior draws, the outermost
+  crossings around the peak of the level 2 * (median sd of p));
+* the resolution length: pi / k_c, k_c the largest wavenumber whose sinusoid of the peak
+  pressure still shows in the data at 3 noise sd (``inverse_forward._resolution_length``).
 
 Options.  ``positive=True``: p >= 0 at every node; the mean is then the constrained maximum of
 the posterior (a bound-constrained quadratic programme) and the covariance that of the free
@@ -57,27 +64,39 @@ Units: lengths in h in the core, stresses in Pa scaled by the data's peak; SI at
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..errors import InputError, named
 from ..physics.film import Film
+from .inverse_evidence import (  # noqa: F401  (re-exported)
+    ENVELOPE_EDGE_MIN_H,
+    KERNEL_NU,
+    _contact_interval,
+    _Evidence,
+    _optimise,
+    _positive,
+)
+from .inverse_forward import (  # noqa: F401  (re-exported)
+    MARGIN_H,
+    NODE_STEP_H,
+    LineForward,
+    _resolution_length,
+    _symbols,
+    base_from_tractions,
+)
+from .inverse_laws import fit_laws
+from .inverse_prior import TIE_MU_PART, fit_contact, propagate
+from .inverse_result import LineInversion
 
-__all__ = ["invert", "read_record", "invert_line", "LineInversion", "LineForward", "fit_laws", "base_from_tractions",
-           "INVERT_JSON_KEYS", "RESOLVED_Z", "MARGIN_H"]
+__all__ = ["invert", "read_record", "invert_line", "LineInversion", "LineForward", "fit_laws",
+           "base_from_tractions", "INVERT_JSON_KEYS", "RESOLVED_Z", "MARGIN_H"]
 
 RESOLVED_Z = 3.0
 """p is resolved where its posterior mean exceeds RESOLVED_Z posterior sd."""
-MARGIN_H = 1.5
-"""Traction nodes extend this many film thicknesses beyond each end of the record."""
-NODE_STEP_H = 0.125
-"""Largest node step [h] (the data's step if coarser)."""
 LAW_EDGE_GUARD = 2.0
 """The law fits use resolved nodes at least this many resolution lengths inside the contact
 interval's edges."""
-_FINE_STEP_H = 1.0 / 128.0
-_PAD_H = 40.0
 
 INVERT_JSON_KEYS = ("load_N_per_m", "load_sigma_N_per_m", "tangential_load_N_per_m",
                     "tangential_load_sigma_N_per_m", "Q_over_P", "Q_over_P_sigma",
@@ -86,589 +105,74 @@ INVERT_JSON_KEYS = ("load_N_per_m", "load_sigma_N_per_m", "tangential_load_N_per
                     "view", "points", "nodes", "positive", "support_m", "laws")
 
 
-# --- synthetic records: the film's base transfer applied to chosen tractions ----------------
-
-def base_from_tractions(x_m, p_Pa, q_Pa, thickness: float, poisson: float = 0.5):
-    """Base stresses (sigma_zz(x, 0), sigma_xz(x, 0)) [Pa] of surface tractions p, q [Pa] given
-    on a uniform grid x_m that is one period of a periodic field (pad it with zeros well beyond
-    the tractions: the kernels decay as exp(-0.74 |x|/h)).  Signs of the package: p >= 0 in
-    compression (sigma_zz(x, h) = -p), q = sigma_xz(x, h); sigma_zz(x, 0) < 0 in compression."""
-    from ..numerics.fft import get_rfft
-    from ..numerics.grid import Grid
-
-    x = np.asarray(x_m, dtype=float)
-    n = x.size
-    dx = (x[-1] - x[0]) / (n - 1)
-    grid = Grid(n, n * dx / thickness)
-    film = Film(1.0, poisson)
-    fft = get_rfft(n)
-    szz, (sxz,) = film.base_stresses(fft, grid, -np.asarray(p_Pa, float), (np.asarray(q_Pa, float),))
-    return szz, sxz
-
-
-# --- forward map ------------------------------------------------------------------------------
-
-def _hat_transform(k, w):
-    """Fourier transform of the hat of half-width w and height 1: w sinc^2(k w / 2)."""
-    u = 0.5 * k * w
-    s = np.where(np.abs(u) > 1e-8, np.sin(u) / np.where(np.abs(u) > 1e-8, u, 1.0), 1.0)
-    return w * s * s
-
-
-def _half_hat_transform(k, w, side):
-    """Transform of the half hat on [0, w] (side=+1: 1 - t/w) or [-w, 0] (side=-1: 1 + t/w)."""
-    k = np.asarray(k, dtype=float)
-    kw = k * w
-    small = np.abs(kw) < 1e-4
-    safe = np.where(small, 1.0, kw)
-    # Int_0^w (1 - t/w) e^{-ikt} dt = w [ (1 - e^{-ikw})/(ikw)^2 ... ] written out:
-    # = 1/(ik) - (1 - e^{-ikw})/(w (ik)^2)
-    ik = 1j * safe / w
-    val = 1.0 / ik - (1.0 - np.exp(-1j * safe)) / (w * ik * ik)
-    series = w * (0.5 - 1j * kw / 6.0 - kw * kw / 24.0)
-    val = np.where(small, series, val)
-    return val if side > 0 else np.conj(val)
-
-
-@dataclass
-class LineForward:
-    """The linear map from nodal surface tractions (p_j, q_j) to the data (d_zz, d_xz).
-
-    x : data positions [h] (uniform); nodes : node positions [h]; basis : "hat" everywhere, or
-    with ``support`` half hats at its two ends.  ``Mzp, Mzq, Mxp, Mxq`` (n x m): the blocks of
-    d_zz = Mzp p + Mzq q, d_xz = Mxp p + Mxq q.
-    """
-
-    x: np.ndarray
-    nodes: np.ndarray
-    weights: np.ndarray  # Int of each basis function [h]
-    Mzp: np.ndarray
-    Mzq: np.ndarray
-    Mxp: np.ndarray
-    Mxq: np.ndarray
-    kinds: np.ndarray = field(default=None)  # 0 hat, +1 right half hat (left end), -1 left half
-
-    @classmethod
-    def build(cls, x, film: Film, symbols=None, support=None, step=None):
-        """x [h] uniform; film in units of h (thickness 1); symbols: None (no apparatus) or a
-        pair of functions k [1/h] -> transform (G_zz, G_xz line symbols); support (a, b) [h]."""
-        x = np.asarray(x, dtype=float)
-        dx = (x[-1] - x[0]) / (x.size - 1)
-        dt = step if step is not None else max(NODE_STEP_H, dx)
-        if support is None:
-            lo, hi = x[0] - MARGIN_H, x[-1] + MARGIN_H
-            m = int(math.ceil((hi - lo) / dt)) + 1
-            nodes = lo + dt * np.arange(m)
-            kinds = np.zeros(m, dtype=int)
-        else:
-            a, b = support
-            m = max(int(math.ceil((b - a) / dt)), 2) + 1
-            nodes = np.linspace(a, b, m)
-            dt = nodes[1] - nodes[0]
-            kinds = np.zeros(m, dtype=int)
-            kinds[0], kinds[-1] = 1, -1
-        weights = np.where(kinds == 0, dt, 0.5 * dt)
-        # fine periodic grid for the kernels: lags from x_min - t_max to x_max - t_min
-        span = max(x[-1] - nodes[0], nodes[-1] - x[0]) + dt
-        fine = min(_FINE_STEP_H, dx / 2.0)
-        if fine < _FINE_STEP_H:  # dense data: the kernel is smooth on h/128, interpolate
-            fine = _FINE_STEP_H
-        period = 2.0 * span + _PAD_H
-        nf = int(2 ** math.ceil(math.log2(period / fine)))
-        fine = period / nf
-        k = 2.0 * math.pi * np.fft.rfftfreq(nf, fine)
-        coef = film.base_coefficients(k)
-        gz, gx = (np.ones_like(k), np.ones_like(k)) if symbols is None else (symbols[0](k),
-                                                                              symbols[1](k))
-
-        def kernels(phi):
-            # response at the base of p = phi (sigma_zz(h) = -phi) and of q = phi
-            szz_p, (sxz_p,) = film.base_transfer((1.0,), k, -phi, (0.0 * phi,), coef)
-            szz_q, (sxz_q,) = film.base_transfer((1.0,), k, 0.0 * phi, (phi,), coef)
-            out = []
-            for spec, g, sign in ((szz_p, gz, -1.0), (szz_q, gz, -1.0), (sxz_p, gx, 1.0),
-                                  (sxz_q, gx, 1.0)):
-                f = np.fft.irfft(sign * spec * g, nf) / fine
-                out.append(np.fft.fftshift(f))  # index nf//2 is lag 0
-            return out
-
-        kers = {0: kernels(_hat_transform(k, dt).astype(complex))}
-        if support is not None:
-            kers[1] = kernels(_half_hat_transform(k, dt, +1))
-            kers[-1] = kernels(_half_hat_transform(k, dt, -1))
-        n = x.size
-        blocks = [np.empty((n, m)) for _ in range(4)]
-        for kind, ks in kers.items():
-            cols = np.nonzero(kinds == kind)[0]
-            if cols.size == 0:
-                continue
-            lag = x[:, None] - nodes[None, cols]
-            pos = lag / fine + nf // 2
-            i0 = np.floor(pos).astype(int)
-            w1 = pos - i0
-            for blk, kern in zip(blocks, ks):
-                blk[:, cols] = (1.0 - w1) * kern[i0] + w1 * kern[i0 + 1]
-        return cls(x, nodes, weights, *blocks, kinds=kinds)
-
-    def basis_matrix(self, x):
-        """Values of the basis functions at x [h] (len(x) x m)."""
-        x = np.asarray(x, dtype=float)
-        t = self.nodes
-        dt = t[1] - t[0]
-        u = (x[:, None] - t[None, :]) / dt
-        B = np.clip(1.0 - np.abs(u), 0.0, None)
-        B[:, self.kinds == 1] *= (u[:, self.kinds == 1] >= 0)
-        B[:, self.kinds == -1] *= (u[:, self.kinds == -1] <= 0)
-        return B
-
-    def apply(self, p, q):
-        return self.Mzp @ p + self.Mzq @ q, self.Mxp @ p + self.Mxq @ q
-
-
-# --- evidence and posterior -------------------------------------------------------------------
-
-KERNEL_NU = 0.5
-"""Smoothness of the Matern prior (1/2, 3/2 or 5/2)."""
-ENVELOPE_EDGE_MIN_H = 0.25
-"""Smallest width e [h] of the prior's envelope edges."""
-
-
-def _matern52(t, length, nu=None):
-    """Matern correlation (nu = 1/2, 3/2, 5/2) on nodes t and its derivative with respect to
-    log(length)."""
-    nu = KERNEL_NU if nu is None else nu
-    d = np.abs(t[:, None] - t[None, :]) / length
-    if nu == 0.5:
-        e = np.exp(-d)
-        return e, d * e
-    if nu == 1.5:
-        r = math.sqrt(3.0) * d
-        e = np.exp(-r)
-        return (1.0 + r) * e, r * r * e
-    r = math.sqrt(5.0) * d
-    e = np.exp(-r)
-    return (1.0 + r + r * r / 3.0) * e, (r * r * (1.0 + r) / 3.0) * e
-
-
-def _logistic(u):
-    return 0.5 * (1.0 + np.tanh(0.5 * u))
-
-
-# hyperparameters: log l_p, log l_q, log s_p, log s_q, log s_out, log sigma_zz, log sigma_xz,
-# c, log hw (envelope centre and half-width, h), log e (envelope edge width, h),
-# log r_p, log r_q (amplitudes of the rough edge component), log l_r (its length)
-_NPAR = 13
-
-
-class _Evidence:
-    """Sufficient statistics of a record for the Gaussian model; log-evidence and its gradient.
-
-    Prior, for each traction f in (p, q): the sum of two independent zero-mean Gaussian
-    processes, a smooth one D_f C(l_f) D_f (C the Matern-``KERNEL_NU`` correlation) and a
-    rough one at the contact's edges E_f C_1/2(l_r) E_f (exponential correlation: continuous,
-    nowhere differentiable, as sqrt edges and steps are), with D = diag(s(t)),
-    s(t)^2 = s_f^2 w(t) + s_out^2 and E = diag(e(t)), e(t)^2 = r_f^2 4 w(t) (1 - w(t)), where
-    w = logistic((t - a)/e) logistic((b - t)/e) is an envelope whose window [a, b] and edge width
-    e are hyperparameters: amplitude s_f inside, s_out outside, and the roughness where the
-    contact ends (the evidence places the window, so no support is assumed).  With a known
-    support w = 1 on it, s_out is not used and the rough part has a uniform amplitude r_f."""
-
-    def __init__(self, fwd: LineForward, dz, dx, envelope=True):
-        self.fwd = fwd
-        Mz = np.hstack([fwd.Mzp, fwd.Mzq])
-        Mx = np.hstack([fwd.Mxp, fwd.Mxq])
-        self.Gz, self.Gx = Mz.T @ Mz, Mx.T @ Mx
-        self.bz, self.bx = Mz.T @ dz, Mx.T @ dx
-        self.ez, self.ex = float(dz @ dz), float(dx @ dx)
-        self.n = dz.size
-        self.m = fwd.nodes.size
-        self.t = fwd.nodes
-        self.envelope = envelope
-        self.jitter = 1e-8
-
-    def _amplitudes(self, th):
-        """Amplitude profiles (s, e) of the smooth and rough parts (p and q stacked) and their
-        derivatives {k: (ds/dtheta_k, de/dtheta_k)}."""
-        t = self.t
-        z = 0.0 * t
-        s_in_p, s_in_q, s_out = math.exp(th[2]), math.exp(th[3]), math.exp(th[4])
-        r_p, r_q = math.exp(th[10]), math.exp(th[11])
-        if not self.envelope:
-            one = np.ones_like(t)
-            s = np.concatenate([s_in_p * one, s_in_q * one])
-            e = np.concatenate([r_p * one, r_q * one])
-            zz = np.zeros(2 * t.size)
-            return s, e, {2: (np.concatenate([s_in_p * one, z]), zz),
-                          3: (np.concatenate([z, s_in_q * one]), zz),
-                          10: (zz, np.concatenate([r_p * one, z])),
-                          11: (zz, np.concatenate([z, r_q * one]))}
-        c, hw, ew = th[7], math.exp(th[8]), math.exp(th[9])
-        a, b = c - hw, c + hw
-        u, v = (t - a) / ew, (b - t) / ew
-        su, sv = _logistic(u), _logistic(v)
-        w = su * sv
-        sp = np.sqrt(s_in_p**2 * w + s_out**2)
-        sq = np.sqrt(s_in_q**2 * w + s_out**2)
-        edge = 4.0 * w * (1.0 - w) + 1e-12
-        ep, eq = r_p * np.sqrt(edge), r_q * np.sqrt(edge)
-        da, db = -w * (1.0 - su) / ew, w * (1.0 - sv) / ew
-        dw = {7: da + db, 8: hw * (db - da), 9: -w * ((1.0 - su) * u + (1.0 - sv) * v)}
-        zz = np.zeros(2 * t.size)
-        d = {2: (np.concatenate([s_in_p**2 * w / sp, z]), zz),
-             3: (np.concatenate([z, s_in_q**2 * w / sq]), zz),
-             4: (np.concatenate([s_out**2 / sp, s_out**2 / sq]), zz),
-             10: (zz, np.concatenate([ep, z])), 11: (zz, np.concatenate([z, eq]))}
-        for k, g in dw.items():
-            dedge = 4.0 * (1.0 - 2.0 * w) * g
-            d[k] = (np.concatenate([0.5 * s_in_p**2 * g / sp, 0.5 * s_in_q**2 * g / sq]),
-                    np.concatenate([0.5 * r_p**2 * dedge / ep, 0.5 * r_q**2 * dedge / eq]))
-        return np.concatenate([sp, sq]), np.concatenate([ep, eq]), d
-
-    def evaluate(self, th, grad=False, full=False):
-        m = self.m
-        lp, lq, lr = math.exp(th[0]), math.exp(th[1]), math.exp(th[12])
-        nz, nx = math.exp(th[5]), math.exp(th[6])
-        Cp, dCp = _matern52(self.t, lp)
-        Cq, dCq = _matern52(self.t, lq)
-        Cr, dCr = _matern52(self.t, lr, 0.5)
-        s, e, dsd = self._amplitudes(th)
-        C = np.zeros((2 * m, 2 * m))
-        C[:m, :m], C[m:, m:] = Cp, Cq
-        C[np.diag_indices_from(C)] += self.jitter
-        C2 = np.zeros((2 * m, 2 * m))
-        C2[:m, :m] = C2[m:, m:] = Cr
-        K = s[:, None] * C * s[None, :] + e[:, None] * C2 * e[None, :]
-        H = self.Gz / nz**2 + self.Gx / nx**2
-        b = self.bz / nz**2 + self.bx / nx**2
-        Lk = np.zeros_like(K)
-        Lk[:m, :m] = np.linalg.cholesky(K[:m, :m])
-        Lk[m:, m:] = np.linalg.cholesky(K[m:, m:])
-        Lp, Lq = Lk[:m, :m], Lk[m:, m:]  # block-diagonal: Lk^T H Lk by blocks
-        HL = np.hstack([H[:, :m] @ Lp, H[:, m:] @ Lq])
-        B = np.vstack([Lp.T @ HL[:m], Lq.T @ HL[m:]])
-        B[np.diag_indices_from(B)] += 1.0
-        Lb = np.linalg.cholesky(B)
-        beta = Lk.T @ b
-        alpha = _cho(Lb, beta)
-        mu = Lk @ alpha
-        logdet = 2.0 * np.sum(np.log(np.diag(Lb)))
-        quad = self.ez / nz**2 + self.ex / nx**2 - beta @ alpha
-        n = self.n
-        logev = -0.5 * quad - 0.5 * logdet - n * (th[5] + th[6]) - n * math.log(2.0 * math.pi)
-        if not (grad or full):
-            return logev
-        from scipy.linalg import solve_triangular
-
-        Li = solve_triangular(Lb, Lk.T, lower=True)  # posterior covariance S = Li^T Li
-        S = Li.T @ Li
-        out = [logev]
-        if grad:
-            g = np.zeros(_NPAR)
-            # prior parameters: d logev = 1/2 tr(W dK), W = K^-1 (mu mu^T + S) K^-1 - K^-1
-            # = Km Km^T - (K + H^-1)^-1 with Km = K^-1 mu = b - H mu and (Woodbury)
-            # (K + H^-1)^-1 = H - H S H: no inverse of the (ill-conditioned) prior covariance
-            Km = b - H @ mu
-            HS = H @ S
-            W = np.outer(Km, Km) - H + HS @ H
-            W = 0.5 * (W + W.T)
-            ss = s[:, None] * s[None, :]
-            ee = e[:, None] * e[None, :]
-            g[0] = 0.5 * np.sum(W[:m, :m] * dCp * ss[:m, :m])
-            g[1] = 0.5 * np.sum(W[m:, m:] * dCq * ss[m:, m:])
-            g[12] = 0.5 * (np.sum(W[:m, :m] * dCr * ee[:m, :m])
-                           + np.sum(W[m:, m:] * dCr * ee[m:, m:]))
-            WC, WC2 = (W * C) @ s, (W * C2) @ e
-            for k, (ds_, de_) in dsd.items():
-                g[k] = float(ds_ @ WC + de_ @ WC2)
-            # noise: d logev / d log sigma_c = -n + |r_c|^2 / sigma_c^2 + tr(G_c S) / sigma_c^2
-            for k, G, bb, ee, sig in ((5, self.Gz, self.bz, self.ez, nz),
-                                      (6, self.Gx, self.bx, self.ex, nx)):
-                rr = ee - 2.0 * mu @ bb + mu @ G @ mu + np.sum(G * S)
-                g[k] = -n + rr / sig**2
-            out.append(g)
-        if full:
-            out.append((mu, S, H))
-        return tuple(out)
-
-
-def _cho(L, y):
-    from scipy.linalg import solve_triangular
-
-    return solve_triangular(L.T, solve_triangular(L, y, lower=True), lower=False)
-
-
-def _cho_inv(L):
-    from scipy.linalg import solve_triangular
-
-    Li = solve_triangular(L, np.eye(L.shape[0]), lower=True)
-    return Li.T @ Li
-
-
-def _noise_guess(d):
-    """Noise sd from second differences (white noise: var(d2) = 6 sigma^2)."""
-    d2 = np.diff(d, 2)
-    return max(float(np.median(np.abs(d2))) / 0.6745 / math.sqrt(6.0),
-               1e-6 * float(np.max(np.abs(d)) or 1.0))
-
-
-def _optimise(ev: _Evidence, dz, dx, dt):
-    """Maximum of the log-evidence over the hyperparameters (L-BFGS-B with the analytic
-    gradient, from the data's amplitude, a noise estimate from second differences and an
-    envelope around the data's peak); returns (theta, log-evidence, free mask)."""
-    from scipy.optimize import minimize
-
-    t = ev.t
-    scale = max(float(np.max(np.abs(dz))), float(np.max(np.abs(dx))), 1e-300)
-    nz0 = min(max(_noise_guess(dz), 1e-4 * scale), 0.3 * scale)
-    nx0 = min(max(_noise_guess(dx), 1e-4 * scale), 0.3 * scale)
-    # envelope start: where the data exceed half their peak, widened by 1 h
-    x = ev.fwd.x
-    big = np.abs(dz) > 0.5 * np.max(np.abs(dz))
-    a0 = float(x[big].min()) - 1.0 if big.any() else float(t[0])
-    b0 = float(x[big].max()) + 1.0 if big.any() else float(t[-1])
-    c0, hw0 = 0.5 * (a0 + b0), 0.5 * (b0 - a0)
-    lo = np.array([math.log(max(dt, 0.05))] * 2 + [math.log(1e-4 * scale)] * 3
-                  + [math.log(1e-7 * scale)] * 2 + [t[0], math.log(max(dt, 0.05)), math.log(max(dt / 2, 0.02))])
-    hi = np.array([math.log(20.0)] * 2 + [math.log(1e3 * scale)] * 3
-                  + [math.log(10 * scale)] * 2 + [t[-1], math.log(t[-1] - t[0]), math.log(5.0)])
-    lo[9] = math.log(max(ENVELOPE_EDGE_MIN_H, dt / 2))
-    lo = np.concatenate([lo, [math.log(1e-4 * scale)] * 2 + [math.log(max(dt, 0.05))]])
-    hi = np.concatenate([hi, [math.log(1e3 * scale)] * 2 + [math.log(20.0)]])
-    free = np.ones(_NPAR, bool)
-    if not ev.envelope:
-        free[[4, 7, 8, 9]] = False
-    best = None
-    for l0 in (0.8,):
-        th0 = np.array([math.log(l0), math.log(l0), math.log(scale), math.log(0.5 * scale),
-                        math.log(0.02 * scale), math.log(nz0), math.log(nx0), c0, math.log(hw0),
-                        math.log(0.5), math.log(0.2 * scale), math.log(0.2 * scale),
-                        math.log(0.3)])
-        th0 = np.clip(th0, lo, hi)
-
-        def f(z, th0=th0):
-            th = th0.copy()
-            th[free] = z
-            try:
-                v, g = ev.evaluate(th, grad=True)
-            except np.linalg.LinAlgError:
-                return 1e300, np.zeros(z.size)
-            if not np.isfinite(v):
-                return 1e300, np.zeros(z.size)
-            return -v, -g[free]
-
-        res = minimize(f, th0[free], jac=True, method="L-BFGS-B",
-                       bounds=list(zip(lo[free], hi[free])),
-                       options={"maxiter": 300, "ftol": 1e-10, "gtol": 1e-3})
-        th = th0.copy()
-        th[free] = res.x
-        if best is None or -res.fun > best[1]:
-            best = (th, -res.fun)
-    return best[0], best[1], free
-
-
-# --- laws -------------------------------------------------------------------------------------
-
-_LAWS = {
-    "amontons": (("mu",), lambda p, th: th[0] * p, lambda p, th: np.full_like(p, th[0])),
-    "linear": (("tau0_Pa", "alpha"), lambda p, th: th[0] + th[1] * p,
-               lambda p, th: np.full_like(p, th[1])),
-    "power": (("k_Pa", "n"), lambda p, th: th[0] * (p / _PREF[0]) ** th[1],
-              lambda p, th: th[0] * th[1] * (p / _PREF[0]) ** (th[1] - 1.0) / _PREF[0]),
-}
-_PREF = [1.0]
-
-
-def _pinv_sqrt(C, rcond=1e-10):
-    w, V = np.linalg.eigh(0.5 * (C + C.T))
-    keep = w > rcond * w.max()
-    return (V[:, keep] / np.sqrt(w[keep])).T, int(keep.sum())
-
-
-def fit_laws(p, q, Cpp, Cqq, Cpq) -> dict:
-    """Fit Amontons, q = tau0 + alpha p and q = k (p/p_ref)^n (p_ref = median p) to pairs (p_i,
-    q_i) [Pa] with joint Gaussian errors (covariance blocks Cpp, Cqq, Cpq [Pa^2]).
-
-    Generalised least squares with the effective covariance Cov(r) = Cqq - Cqp J - J Cpq +
-    J Cpp J of the residual r = q - f(p) (J = diag f'(p)), re-evaluated three times; the
-    pseudo-inverse drops the directions the covariance does not constrain (eigenvalues below
-    1e-10 of the largest) and the degrees of freedom are its rank minus the parameters.
-    Returns {law: {params..., params_sigma..., chi2, dof, p_value, aic}} and "best" (lowest AIC).
-    """
-    from scipy.optimize import least_squares
-    from scipy.stats import chi2 as chi2_dist
-
-    p = np.asarray(p, float)
-    q = np.asarray(q, float)
-    out = {}
-    if p.size < 3:
-        return {"note": f"only {p.size} resolved nodes: no law fitted"}
-    _PREF[0] = float(np.median(p))
-    # starting values from ordinary least squares
-    A = np.vstack([np.ones_like(p), p]).T
-    t0_lin = np.linalg.lstsq(A, q, rcond=None)[0]
-    starts = {"amontons": [float(q @ p / (p @ p))], "linear": list(map(float, t0_lin)),
-              "power": [float(np.median(q)) or 1.0, 1.0]}
-    for law, (names, f, fp) in _LAWS.items():
-        th = np.array(starts[law], float)
-        ok = True
-        for _ in range(3):
-            J = fp(p, th)
-            C = Cqq - Cpq.T * J[None, :] - J[:, None] * Cpq + J[:, None] * Cpp * J[None, :]
-            W, rank = _pinv_sqrt(C)
-            try:
-                sol = least_squares(lambda t: W @ (q - f(p, t)), th, method="lm")
-            except ValueError:
-                ok = False
-                break
-            th = sol.x
-        if not ok or not np.all(np.isfinite(th)):
-            out[law] = {"note": "fit failed"}
-            continue
-        r = W @ (q - f(p, th))
-        chi2 = float(r @ r)
-        k = len(names)
-        Jt = sol.jac
-        try:
-            cov = np.linalg.inv(Jt.T @ Jt)
-            sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
-        except np.linalg.LinAlgError:
-            sd = np.full(k, np.nan)
-        dof = max(rank - k, 1)
-        rec = {}
-        for nm, v, s in zip(names, th, sd):
-            rec[nm] = float(v)
-            rec[nm + "_sigma"] = float(s)
-        if law == "power":
-            rec["p_ref_Pa"] = _PREF[0]
-        rec.update({"chi2": chi2, "dof": dof, "p_value": float(chi2_dist.sf(chi2, dof)),
-                    "aic": chi2 + 2 * k})
-        out[law] = rec
-    fitted = {k: v for k, v in out.items() if "aic" in v}
-    out["best"] = min(fitted, key=lambda k: fitted[k]["aic"]) if fitted else None
-    return out
-
-
-# --- the result -------------------------------------------------------------------------------
-
-@dataclass(repr=False, eq=False)
-class LineInversion:
-    """Tractions at the interface inferred from a line record (all SI at the edge).
-
-    x_m : node positions [m] (the file's frame); pressure_Pa, shear_Pa : posterior means of p
-    (>= 0 in compression) and q = sigma_xz(x, h) (> 0 drags the film toward +x);
-    pressure_sd_Pa, shear_sd_Pa : posterior sd; mu_local, mu_local_sd : q/p and its sd where
-    p > 3 sd (NaN elsewhere); ``summary()``: the JSON record (``INVERT_JSON_KEYS``);
-    ``profiles()``: the CSV columns; ``plot()``: a Figure.
-    """
-
-    x_m: np.ndarray
-    pressure_Pa: np.ndarray
-    pressure_sd_Pa: np.ndarray
-    shear_Pa: np.ndarray
-    shear_sd_Pa: np.ndarray
-    mu_local: np.ndarray
-    mu_local_sd: np.ndarray
-    record: dict
-    data: dict
-    cov: np.ndarray = None  # nodal covariance [Pa^2], (p, q) stacked
-
-    def summary(self) -> dict:
-        return dict(self.record)
-
-    to_dict = summary
-
-    @property
-    def laws(self) -> dict:
-        return self.record["laws"]
-
-    def profiles(self) -> dict:
-        return {"x_m": self.x_m, "pressure_Pa": self.pressure_Pa,
-                "pressure_sd_Pa": self.pressure_sd_Pa, "shear_Pa": self.shear_Pa,
-                "shear_sd_Pa": self.shear_sd_Pa, "mu_local": self.mu_local,
-                "mu_local_sd": self.mu_local_sd}
-
-    def __getattr__(self, name):
-        rec = self.__dict__.get("record")
-        if rec is not None and name in rec:
-            return rec[name]
-        raise AttributeError(name)
-
-    def __repr__(self):
-        r = self.record
-        return (f"<LineInversion: P = {r['load_N_per_m']:.5g} +- {r['load_sigma_N_per_m']:.2g} N/m,"
-                f" Q = {r['tangential_load_N_per_m']:.5g} +- "
-                f"{r['tangential_load_sigma_N_per_m']:.2g} N/m, Q/P = {r['Q_over_P']:.4g} +- "
-                f"{r['Q_over_P_sigma']:.2g}; resolution {r['resolution_length_m'] * 1e3:.3g} mm; "
-                f"best law {r['laws'].get('best')}>")
-
-    def plot(self, fig=None):
-        """Tractions with 95 % bands, mu_local with its band, the data against the data
-        re-predicted from the estimate (with residuals), and the local (p, q) pairs."""
-        from matplotlib.figure import Figure
-
-        fig = fig or Figure(figsize=(10, 8), layout="constrained")
-        ax = fig.subplots(2, 2)
-        mm, kPa = 1e3, 1e-3
-        x = self.x_m * mm
-        a = ax[0, 0]
-        for f, s, c, lab in ((self.pressure_Pa, self.pressure_sd_Pa, "C0", "p"),
-                             (self.shear_Pa, self.shear_sd_Pa, "C1", "q")):
-            a.fill_between(x, (f - 1.96 * s) * kPa, (f + 1.96 * s) * kPa, color=c, alpha=0.3)
-            a.plot(x, f * kPa, c + "-", label=f"{lab} (95 % band)")
-        a.axhline(0, color="0.6", lw=0.5)
-        a.set_xlabel("x [mm] (file's frame)")
-        a.set_ylabel("traction [kPa]")
-        a.legend(fontsize=8)
-        a.set_title(f"P = {self.record['load_N_per_m']:.4g} +- "
-                    f"{self.record['load_sigma_N_per_m']:.2g} N/m, Q/P = "
-                    f"{self.record['Q_over_P']:.4g} +- {self.record['Q_over_P_sigma']:.2g}",
-                    fontsize=9)
-        a = ax[0, 1]
-        ok = np.isfinite(self.mu_local)
-        a.fill_between(x[ok], (self.mu_local - 1.96 * self.mu_local_sd)[ok],
-                       (self.mu_local + 1.96 * self.mu_local_sd)[ok], color="C2", alpha=0.3)
-        a.plot(x[ok], self.mu_local[ok], "C2.-", label="mu_local = q/p (p > 3 sd), 95 %")
-        a.set_xlabel("x [mm]")
-        a.set_ylabel("q / p")
-        a.legend(fontsize=8)
-        a = ax[1, 0]
-        d = self.data
-        xd = d["x_m"] * mm
-        for key, c, lab in (("zz", "C0", "zz"), ("xz", "C1", "xz")):
-            a.plot(xd, d[key] * kPa, c + ".", ms=2, label=f"data {lab}")
-            a.plot(xd, d[key + "_fit"] * kPa, "k-", lw=0.8)
-            a.plot(xd, (d[key] - d[key + "_fit"]) * kPa, c + "-", lw=0.6, alpha=0.7,
-                   label=f"residual {lab}")
-        a.set_xlabel("x [mm]")
-        a.set_ylabel(("S" if self.record["view"] == "sensor" else "base stress") + " [kPa]")
-        a.legend(fontsize=7)
-        a = ax[1, 1]
-        res = ok
-        a.errorbar(self.pressure_Pa[res] * kPa, self.shear_Pa[res] * kPa,
-                   xerr=self.pressure_sd_Pa[res] * kPa, yerr=self.shear_sd_Pa[res] * kPa,
-                   fmt="k.", ms=3, lw=0.5, label="local (p, q), 1 sd")
-        pp = np.linspace(0, max(self.pressure_Pa[res].max() if res.any() else 1.0, 1.0), 50)
-        laws = self.record["laws"]
-        for law, f in (("amontons", lambda p, r: r["mu"] * p),
-                       ("linear", lambda p, r: r["tau0_Pa"] + r["alpha"] * p),
-                       ("power", lambda p, r: r["k_Pa"] * (p / r["p_ref_Pa"]) ** r["n"])):
-            rec = laws.get(law, {})
-            if "aic" in rec:
-                a.plot(pp * kPa, f(pp, rec) * kPa, label=f"{law} (AIC {rec['aic']:.1f})")
-        a.set_xlabel("p [kPa]")
-        a.set_ylabel("q [kPa]")
-        a.legend(fontsize=7)
-        return fig
-
-
 # --- the inversion ----------------------------------------------------------------------------
 
-def _symbols(apparatus, h_m):
-    if apparatus is None:
-        return None
-    gzz, gxz = apparatus
-    return (lambda k: np.asarray(gzz.transform(k / h_m), float),
-            lambda k: np.asarray(gxz.transform(k / h_m), float))
+
+def _regularisation(prior, theta, free, scale, h, hyper):
+    """The prior and its hyperparameters in SI (the JSON's ``regularisation``)."""
+    e = np.exp
+    if prior == "contact":
+        c, w0 = theta[0] * h, e(theta[1]) * h
+        return {"prior": "contact: p = sqrt-edged window x Matern-5/2 process; q = mu0 p + "
+                         "sqrt-edged x Matern-5/2 + window x Matern-5/2; white nugget",
+                "window_m": [float(c - w0), float(c + w0)] if free[0] else None,
+                "amplitude_p_Pa": float(e(theta[2]) * scale), "length_p_m": float(e(theta[3]) * h),
+                "mu0": float(theta[4]),
+                "amplitude_mu_part_Pa": float(e(theta[2] if TIE_MU_PART else theta[5]) * scale),
+                "length_mu_part_m": float(e(theta[6]) * h),
+                "amplitude_step_part_Pa": float(e(theta[2]) * scale),
+                "nugget_Pa": float(e(theta[9]) * scale),
+                "chosen_by": "maximum evidence (marginal likelihood)",
+                "hyperparameter_uncertainty": ("propagated (Laplace over the log-hyperparameters)"
+                                               if hyper else "not propagated")}
+    return {"prior": f"envelope: p, q Matern-{2 * KERNEL_NU:g}/2 Gaussian processes inside an "
+                     f"envelope + exponential-correlation process at its edges, zero mean",
+            "rough_amplitude_p_Pa": float(e(theta[10]) * scale),
+            "rough_amplitude_q_Pa": float(e(theta[11]) * scale),
+            "rough_length_m": float(e(theta[12]) * h),
+            "length_p_m": float(e(theta[0]) * h), "length_q_m": float(e(theta[1]) * h),
+            "amplitude_p_Pa": float(e(theta[2]) * scale), "amplitude_q_Pa": float(e(theta[3]) * scale),
+            "amplitude_outside_Pa": float(e(theta[4]) * scale) if free[4] else None,
+            "window_m": ([float((theta[7] - e(theta[8])) * h), float((theta[7] + e(theta[8])) * h)]
+                         if free[7] else None),
+            "window_edge_m": float(e(theta[9]) * h) if free[9] else None,
+            "chosen_by": "maximum evidence (marginal likelihood)",
+            "hyperparameter_uncertainty": "not propagated"}
+
+
+BIN_STEP_H = 1.0 / 32.0
+"""Records sampled finer than this [h] are averaged in consecutive groups of k samples (k the
+largest with k dx <= BIN_STEP_H h) before the inversion: for white noise the group means carry
+the same information (sd sigma / sqrt k) as long as the forward map is linear across a group,
+and the film's responses vary on h, not on h/32 (the tail of fewer than k samples at the end is
+dropped).  The cost then does not grow with the number of samples beyond that."""
+
+
+def _bin(x, zz, xz, step):
+    """(x, zz, xz, k): group means of k consecutive samples (k = 1: unchanged)."""
+    dx = (x[-1] - x[0]) / (x.size - 1)
+    k = int(step // dx)
+    if k < 2 or x.size // k < 8:
+        return x, zz, xz, 1
+    n = (x.size // k) * k
+    return (x[:n].reshape(-1, k).mean(axis=1), zz[:n].reshape(-1, k).mean(axis=1),
+            xz[:n].reshape(-1, k).mean(axis=1), k)
+
+
+def _window_interval(theta, sig, idx, h, known):
+    """The contact prior's window [c - w0, c + w0] [m] and the sd of its two edges from the
+    Laplace covariance of (c, log w0) (NaN where not propagated or at a bound; 0 if known)."""
+    c, w0 = float(theta[0]), math.exp(theta[1])
+    edges = [(c - w0) * h, (c + w0) * h]
+    if known is not None:
+        return [known[0] * h, known[1] * h], [0.0, 0.0]
+    if sig is None or 0 not in idx or 1 not in idx:
+        return edges, [float("nan"), float("nan")]
+    i, j = idx.index(0), idx.index(1)
+    vc, vl, cl = sig[i, i], sig[j, j], sig[i, j]
+    va = vc + w0 * w0 * vl - 2 * w0 * cl
+    vb = vc + w0 * w0 * vl + 2 * w0 * cl
+    return edges, [math.sqrt(max(va, 0.0)) * h, math.sqrt(max(vb, 0.0)) * h]
 
 
 def _check_record(x_m, zz, xz):
@@ -718,7 +222,8 @@ def _check_span(x, h):
 
 def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float = 0.5,
                 view: str = "base", apparatus=None, positive: bool = False, support=None,
-                draws: int = 400, seed: int = 0) -> LineInversion:
+                draws: int = 400, seed: int = 0, prior: str = "contact",
+                hyper: bool = True) -> LineInversion:
     """Interface tractions from a line record (see the module docstring).
 
     x_m : uniform increasing positions [m]; zz_Pa : -sigma_zz(x, 0) (compression > 0) or S_zz;
@@ -733,6 +238,8 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
     nu = check_poisson(poisson)
     x, dz, dxz = _check_record(x_m, zz_Pa, xz_Pa)
     _check_span(x, h)
+    if prior not in ("contact", "envelope"):
+        raise InputError(f"prior must be 'contact' or 'envelope'; got {prior!r}")
     if view not in ("base", "sensor"):
         raise InputError(f"view must be 'base' or 'sensor'; got {view!r}")
     if view == "sensor":
@@ -753,20 +260,30 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
                              f"the record extended by {MARGIN_H:g} thicknesses, [{lo:.6g}, "
                              f"{hi:.6g}] m")
         sup_h = (a / h, b / h)
+    points = x.size
+    x, dz, dxz, nbin = _bin(x, dz, dxz, BIN_STEP_H * h)
     scale = max(float(np.max(np.abs(dz))), float(np.max(np.abs(dxz))))
     xh = x / h
     film = Film(1.0, nu)
     symbols = _symbols(apparatus, h)
-    fwd = LineForward.build(xh, film, symbols, support=sup_h)
-    m = fwd.nodes.size
     zs, xs = dz / scale, dxz / scale
-    ev = _Evidence(fwd, zs, xs, envelope=sup_h is None)
-    theta, logev, free = _optimise(ev, zs, xs, fwd.nodes[1] - fwd.nodes[0])
-    _, (mean, cov, H) = ev.evaluate(theta, full=True)
+    if prior == "contact":
+        fwd, ev, theta, logev, free = fit_contact(xh, film, symbols, zs, xs, sup_h)
+        m = fwd.nodes.size
+        _, (mean, cov, H) = ev.evaluate(theta, full=True)
+        if hyper:
+            cov, sig_theta, hyper_idx = propagate(ev, theta, free, mean, cov)
+        nz, nx = np.exp(theta[10:12])
+    else:
+        fwd = LineForward.build(xh, film, symbols, support=sup_h)
+        m = fwd.nodes.size
+        ev = _Evidence(fwd, zs, xs, envelope=sup_h is None)
+        theta, logev, free = _optimise(ev, zs, xs, fwd.nodes[1] - fwd.nodes[0])
+        _, (mean, cov, H) = ev.evaluate(theta, full=True)
+        nz, nx = np.exp(theta[5:7])
     active = np.zeros(2 * m, bool)
     if positive:
         mean, cov, active = _positive(mean, cov, m)
-    lp, lq, sp, sq, s_out, nz, nx = np.exp(theta[:7])
     # SI: stresses * scale; lengths * h
     w = fwd.weights
     p, q = mean[:m] * scale, mean[m:] * scale
@@ -786,8 +303,13 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
         mu = np.where(resolved, q / p, np.nan)
         mu_sd = np.where(resolved, np.sqrt(np.maximum(sq_**2 - 2 * mu * cpq_d + mu**2 * sp_**2,
                                                       0.0)) / np.abs(p), np.nan)
-    # contact interval from posterior draws
-    interval, interval_sd = _contact_interval(fwd.nodes * h, p, cov_si[:m, :m], sp_, draws, seed)
+    if prior == "contact":
+        # the contact interval is the prior's window, with its Laplace sd
+        interval, interval_sd = _window_interval(theta, sig_theta if hyper else None,
+                                                 hyper_idx if hyper else [], h, sup_h)
+    else:  # contact interval from posterior draws
+        interval, interval_sd = _contact_interval(fwd.nodes * h, p, cov_si[:m, :m], sp_, draws,
+                                                  seed)
     # resolution length: equivalent width of the resolution-matrix row at the peak of p
     res_len = _resolution_length(fwd, symbols, film, min(nz, nx) * scale, x.size,
                                  float(np.max(p)), h)
@@ -807,103 +329,17 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
            "Q_over_P": ratio, "Q_over_P_sigma": math.sqrt(max(vR, 0.0)),
            "contact_interval_m": interval, "contact_interval_sigma_m": interval_sd,
            "resolution_length_m": res_len,
-           "regularisation": {"prior": f"p, q: Matern-{2 * KERNEL_NU:g}/2 Gaussian process inside an "
-                                       f"envelope + exponential-correlation process at its "
-                                       f"edges, zero mean",
-                              "rough_amplitude_p_Pa": float(math.exp(theta[10]) * scale),
-                              "rough_amplitude_q_Pa": float(math.exp(theta[11]) * scale),
-                              "rough_length_m": float(math.exp(theta[12]) * h),
-                              "length_p_m": float(lp * h), "length_q_m": float(lq * h),
-                              "amplitude_p_Pa": float(sp * scale),
-                              "amplitude_q_Pa": float(sq * scale),
-                              "amplitude_outside_Pa": float(s_out * scale) if free[4] else None,
-                              "window_m": ([float((theta[7] - math.exp(theta[8])) * h),
-                                            float((theta[7] + math.exp(theta[8])) * h)]
-                                           if free[7] else None),
-                              "window_edge_m": float(math.exp(theta[9]) * h) if free[9] else None,
-                              "chosen_by": "maximum evidence (marginal likelihood)"},
+           "regularisation": _regularisation(prior, theta, free, scale, h, hyper),
            "log_evidence": float(logev - 2 * x.size * math.log(scale)),
-           "noise_sd_zz_Pa": float(nz * scale), "noise_sd_xz_Pa": float(nx * scale),
-           "view": view, "points": int(x.size), "nodes": int(m), "positive": bool(positive),
+           "noise_sd_zz_Pa": float(nz * scale * math.sqrt(nbin)),
+           "noise_sd_xz_Pa": float(nx * scale * math.sqrt(nbin)),
+           "view": view, "points": int(points), "binned_by": int(nbin), "nodes": int(m),
+           "positive": bool(positive),
            "support_m": None if support is None else [float(s) for s in support],
            "resolved_rule": f"mu_local where p > {RESOLVED_Z:g} sd(p)",
            "thickness_m": h, "poisson": nu, "laws": laws}
     data = {"x_m": x, "zz": dz, "xz": dxz, "zz_fit": fz * scale, "xz_fit": fx * scale}
     return LineInversion(fwd.nodes * h, p, sp_, q, sq_, mu, mu_sd, rec, data, cov_si)
-
-
-def _positive(mean, cov, m):
-    """Posterior mode under p >= 0 (bounded least squares) and the covariance of the free nodes
-    given the active ones (sd 0 there)."""
-    from scipy.optimize import lsq_linear
-
-    n2 = 2 * m
-    if np.all(mean[:m] >= 0):
-        return mean, cov, np.zeros(n2, bool)
-    # precision A = inv(cov); minimise 1/2 f A f - f (A mean)  <=>  ||R (f - mean)||^2
-    A = np.linalg.inv(cov)
-    A = 0.5 * (A + A.T)
-    R = np.linalg.cholesky(A).T
-    lo = np.concatenate([np.zeros(m), np.full(m, -np.inf)])
-    sol = lsq_linear(R, R @ mean, bounds=(lo, np.full(n2, np.inf)), method="bvls", tol=1e-12)
-    f = sol.x
-    active = np.zeros(n2, bool)
-    active[:m] = f[:m] <= 1e-12 * max(1.0, float(np.abs(f).max()))
-    free = ~active
-    c2 = np.zeros_like(cov)
-    c2[np.ix_(free, free)] = np.linalg.inv(A[np.ix_(free, free)])
-    f[active] = 0.0
-    return f, c2, active
-
-
-def _contact_interval(t, p, Cpp, sd, draws, seed):
-    """Edges of the region around the peak of p above 2 * median sd, over posterior draws."""
-    level = 2.0 * float(np.median(sd))
-
-    def edges(f):
-        j = int(np.argmax(f))
-        if f[j] <= level:
-            return np.nan, np.nan
-        i = j
-        while i > 0 and f[i - 1] > level:
-            i -= 1
-        k = j
-        while k < f.size - 1 and f[k + 1] > level:
-            k += 1
-        left = t[i] if i == 0 else t[i - 1] + (level - f[i - 1]) / (f[i] - f[i - 1]) * (t[i] - t[i - 1])
-        right = t[k] if k == f.size - 1 else t[k] + (f[k] - level) / (f[k] - f[k + 1]) * (t[k + 1] - t[k])
-        return left, right
-
-    rng = np.random.default_rng(seed)
-    w, V = np.linalg.eigh(0.5 * (Cpp + Cpp.T))
-    Ls = V * np.sqrt(np.maximum(w, 0.0))
-    z = rng.standard_normal((draws, p.size))
-    samples = p[None, :] + z @ Ls.T
-    e = np.array([edges(s) for s in samples])
-    e0 = edges(p)
-    ok = np.all(np.isfinite(e), axis=1)
-    if not ok.any() or not np.all(np.isfinite(e0)):
-        return [float("nan"), float("nan")], [float("nan"), float("nan")]
-    sd_e = np.std(e[ok], axis=0)
-    return [float(e0[0]), float(e0[1])], [float(sd_e[0]), float(sd_e[1])]
-
-
-def _resolution_length(fwd, symbols, film, noise_sd, n, peak, h):
-    """Resolution length [m]: pi / k_c, k_c the largest wavenumber at which a sinusoidal
-    traction of the peak pressure's amplitude still shows in the data at 3 noise sd: its base
-    (or sensor) amplitude max(|A g_zz|, |C g_xz|, |B g|) times the peak exceeds 3 sigma
-    sqrt(2/n) (the sd of a sinusoid's amplitude fitted to n samples of white noise sigma).
-    What the film (A, B, C), the apparatus (g) and the noise allow; the posterior's own
-    smoothing is at least this."""
-    k = np.linspace(0.0, 60.0, 6001)[1:]
-    A, iB, _, C, _ = film.base_coefficients(k)
-    gz, gx = (1.0, 1.0) if symbols is None else (symbols[0](k), symbols[1](k))
-    T = np.maximum.reduce([np.abs(A * gz), np.abs(C * gx), np.abs(iB * gz), np.abs(iB * gx)])
-    seen = T * peak >= 3.0 * noise_sd * math.sqrt(2.0 / n)
-    if not seen.any():
-        return float("inf")
-    kc = float(k[np.nonzero(seen)[0].max()])
-    return math.pi / kc * h
 
 
 # --- entry: files, results, arrays ------------------------------------------------------------

@@ -42,7 +42,6 @@ from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.interface import solve_exponential_contact
 from ..physics.friction import ShearLaw
 from ..physics.scene import Scene, Scene3D, check_positive
-from ..physics.viscoelastic import ViscoelasticFilm, film_of
 from ..result import ContactResult
 from .base import Method, check_grid_points, register
 from .fft3d import solve_fft3d
@@ -290,8 +289,8 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     plans0 = planning_time()
     P = scene.P
     mu_contact = scene.mu if model == "exact" else 0.0
-    film = film_of(scene)  # lengths in h: thickness 1 (Film; ViscoelasticFilm when sliding)
-    visco = isinstance(film, ViscoelasticFilm)
+    film = scene.core_film()  # lengths in h: thickness 1 (the scene's film kind)
+    visco = film.moving  # a film whose symbols depend on the sliding (physics.film)
     margin = film.domain_margin(tol)  # images ~ tol/100 x O(1)
     # residual (relative displacement / pressure / load) accepted from each contact solve:
     # far below tol, but not below what round-off allows for very wide contacts

@@ -1,0 +1,85 @@
+"""Friction laws fitted to the local (p, q) pairs of the line inverse (issue 21)."""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["fit_laws"]
+
+_LAWS = {
+    "amontons": (("mu",), lambda p, th: th[0] * p, lambda p, th: np.full_like(p, th[0])),
+    "linear": (("tau0_Pa", "alpha"), lambda p, th: th[0] + th[1] * p,
+               lambda p, th: np.full_like(p, th[1])),
+    "power": (("k_Pa", "n"), lambda p, th: th[0] * (p / _PREF[0]) ** th[1],
+              lambda p, th: th[0] * th[1] * (p / _PREF[0]) ** (th[1] - 1.0) / _PREF[0]),
+}
+_PREF = [1.0]
+
+
+def _pinv_sqrt(C, rcond=1e-10):
+    w, V = np.linalg.eigh(0.5 * (C + C.T))
+    keep = w > rcond * w.max()
+    return (V[:, keep] / np.sqrt(w[keep])).T, int(keep.sum())
+
+
+def fit_laws(p, q, Cpp, Cqq, Cpq) -> dict:
+    """Fit Amontons, q = tau0 + alpha p and q = k (p/p_ref)^n (p_ref = median p) to pairs (p_i,
+    q_i) [Pa] with joint Gaussian errors (covariance blocks Cpp, Cqq, Cpq [Pa^2]).
+
+    Generalised least squares with the effective covariance Cov(r) = Cqq - Cqp J - J Cpq +
+    J Cpp J of the residual r = q - f(p) (J = diag f'(p)), re-evaluated three times; the
+    pseudo-inverse drops the directions the covariance does not constrain (eigenvalues below
+    1e-10 of the largest) and the degrees of freedom are its rank minus the parameters.
+    Returns {law: {params..., params_sigma..., chi2, dof, p_value, aic}} and "best" (lowest AIC).
+    """
+    from scipy.optimize import least_squares
+    from scipy.stats import chi2 as chi2_dist
+
+    p = np.asarray(p, float)
+    q = np.asarray(q, float)
+    out = {}
+    if p.size < 3:
+        return {"note": f"only {p.size} resolved nodes: no law fitted"}
+    _PREF[0] = float(np.median(p))
+    # starting values from ordinary least squares
+    A = np.vstack([np.ones_like(p), p]).T
+    t0_lin = np.linalg.lstsq(A, q, rcond=None)[0]
+    starts = {"amontons": [float(q @ p / (p @ p))], "linear": list(map(float, t0_lin)),
+              "power": [float(np.median(q)) or 1.0, 1.0]}
+    for law, (names, f, fp) in _LAWS.items():
+        th = np.array(starts[law], float)
+        ok = True
+        for _ in range(3):
+            J = fp(p, th)
+            C = Cqq - Cpq.T * J[None, :] - J[:, None] * Cpq + J[:, None] * Cpp * J[None, :]
+            W, rank = _pinv_sqrt(C)
+            try:
+                sol = least_squares(lambda t: W @ (q - f(p, t)), th, method="lm")
+            except ValueError:
+                ok = False
+                break
+            th = sol.x
+        if not ok or not np.all(np.isfinite(th)):
+            out[law] = {"note": "fit failed"}
+            continue
+        r = W @ (q - f(p, th))
+        chi2 = float(r @ r)
+        k = len(names)
+        Jt = sol.jac
+        try:
+            cov = np.linalg.inv(Jt.T @ Jt)
+            sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
+        except np.linalg.LinAlgError:
+            sd = np.full(k, np.nan)
+        dof = max(rank - k, 1)
+        rec = {}
+        for nm, v, s in zip(names, th, sd):
+            rec[nm] = float(v)
+            rec[nm + "_sigma"] = float(s)
+        if law == "power":
+            rec["p_ref_Pa"] = _PREF[0]
+        rec.update({"chi2": chi2, "dof": dof, "p_value": float(chi2_dist.sf(chi2, dof)),
+                    "aic": chi2 + 2 * k})
+        out[law] = rec
+    fitted = {k: v for k, v in out.items() if "aic" in v}
+    out["best"] = min(fitted, key=lambda k: fitted[k]["aic"]) if fitted else None
+    return out

@@ -1,0 +1,65 @@
+"""Hunter's problem in closed form (reference.hunter, derived): its limits and identities, the
+independent x-space collocation (reference.sls_halfspace), and the film solver at a/h = 0.01."""
+import math
+
+import numpy as np
+import pytest
+
+from spectral_contact import solve
+from spectral_contact.physics.scene import Scene
+from spectral_contact.reference.hunter import hunter_contact
+from spectral_contact.reference.sls_halfspace import sls_halfspace_contact
+
+P = 2 * math.pi * 1e-4  # relaxed Hertz half-width 0.01 (core units)
+A_H = 0.01
+
+
+def test_elastic_limits_and_slow_law():
+    slow = hunter_contact(P, 0.5, 1e-5)
+    assert slow["a"] == pytest.approx(A_H, rel=1e-3)  # relaxed Hertz
+    # slow sliding: the centroid leads by (E_1/E_inf) V tau = (1 - r)/r l, l = r l_r
+    assert slow["centroid"] == pytest.approx(0.5 * 1e-5, rel=1e-2)
+    fast = hunter_contact(P, 0.25, 1e5)
+    assert fast["a"] == pytest.approx(0.5 * A_H, rel=1e-5)  # glassy Hertz: sqrt(r) a_H
+    assert abs(fast["c"]) < 1e-5 * A_H
+
+
+@pytest.mark.parametrize("lr", [3e-3, 3e-2, 1.0])
+def test_profile_identities(lr):
+    """The pressure series integrates to the load and its first moment to the centroid formula
+    (independent of conditions (1)-(3)), and is non-negative."""
+    h = hunter_contact(P, 0.5, lr, n_profile=4001)
+    x, p = h["x"], h["p"]
+    th = np.linspace(math.pi, 0.0, x.size)  # x = c + a cos(theta): dx = a sin dtheta
+    w = h["a"] * np.sin(th) * (th[0] - th[1])
+    assert np.sum(p * w) == pytest.approx(P, rel=1e-9)
+    assert np.sum(p * x * w) / P == pytest.approx(h["centroid"], rel=1e-8)
+    assert h["p_min_interior"] >= 0.0
+    assert h["centroid"] > h["c"] > 0.0  # the pressure leans to the leading side
+
+
+@pytest.mark.parametrize("lr", [3e-3, 3e-2])
+def test_against_collocation(lr):
+    """The dense x-space collocation (edges within dx/2, other scheme, other formulas)."""
+    h = hunter_contact(P, 0.5, lr)
+    s = sls_halfspace_contact(P, 0.5, lr, n=700)
+    assert abs(s["a"] - h["a"]) < 0.5 * s["dx"]
+    assert abs(s["c"] - h["c"]) < 0.5 * s["dx"]
+    assert s["centroid"] == pytest.approx(h["centroid"], rel=2e-4)
+    assert abs(h["c"]) > 5 * s["dx"]  # a real offset
+
+
+@pytest.mark.parametrize("lr", [3e-3, 3e-2])
+def test_film_solver_follows_hunter(lr):
+    """a/h = 0.01, tail l_r = V tau_r = 0.003 h and 0.03 h (0.3 a and 3 a): half-width, offset
+    and mu_def within 0.5 % of Hunter (relative to each, the offset to itself).  With l_r of
+    order h the film and the half-space differ (studies/README, viscoelastic: 1 % at l_r = 0.14 h)."""
+    sls = ((2.2e6, 0.01),)  # E_1 = E_inf, tau 10 ms: tau_r = 20 ms, r = 1/2
+    base = Scene(load=1.0, mu=0.0)
+    s = Scene(load=P * base.stress_unit * base.length_unit, mu=0.0,
+              speed=lr * base.thickness / 0.02, prony=sls)
+    r = solve(s, tol=1e-3)
+    h = hunter_contact(P, 0.5, lr)
+    assert r.half_width == pytest.approx(h["a"], rel=5e-3)
+    assert r.center == pytest.approx(h["c"], rel=5e-3)
+    assert r.deformation_friction == pytest.approx(h["centroid"] * s.thickness / s.radius, rel=5e-3)
