@@ -58,8 +58,9 @@ SLIDING = dict(indenter="sphere", force=1.0, mu=1.0, domain_length=0.03)  # 30 m
 TARGET_PAIRS = 70.0      # fixed-grid sliding sphere through solve(): FFT-pair times of its grid
 TARGET_CYLINDER = 60.0   # the paper's finite cylinder at its default tol: pair times of 1024^2
 TARGET_FLAT_GMRES = 1.5  # finest-grid GMRES iterations: largest N over smallest N, at most (the
-# ratio issue 10 set; measured 17, 17, 18, 24 at 256^2 ... 2048^2: a third active-set step of
-# 5 GMRES iterations at 2048^2 sheds 2 nodes)
+# ratio issue 10 set; measured 17, 17, 18, 19 at 256^2 ... 2048^2 with the release look-ahead,
+# numerics.contact._released_tensile; 24 at 2048^2 before it: a third active-set step of 5
+# GMRES iterations for 2 nodes that the first step's release turned tensile)
 TARGET_FLAT_STEPS = 1    # and finest-grid active-set steps
 BIG_N = 4096
 
