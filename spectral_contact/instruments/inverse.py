@@ -72,7 +72,7 @@ import math
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, named
 from ..physics.film import Film
 from .inverse_evidence import (  # noqa: F401  (re-exported)
     ENVELOPE_EDGE_MIN_H,
@@ -218,7 +218,32 @@ def _check_record(x_m, zz, xz):
         raise InputError("x_m must be strictly increasing and uniformly spaced (within 0.1 %)")
     if not np.any(zz) and not np.any(xz):
         raise InputError("the record is zero everywhere: nothing to invert")
+    big = max(float(np.max(np.abs(zz))), float(np.max(np.abs(xz))))
+    if not VALUE_RANGE_PA[0] <= big <= VALUE_RANGE_PA[1]:
+        raise InputError(f"the record's largest |stress| is {big:.3g} Pa: the inversion takes "
+                         f"{VALUE_RANGE_PA[0]:g} ... {VALUE_RANGE_PA[1]:g} Pa")
     return x, zz, xz
+
+
+VALUE_RANGE_PA = (1e-100, 1e100)
+"""The largest |stress| of a record the inversion takes (subnormal or huge values are refused:
+the evidence squares them)."""
+SPAN_RANGE_H = (0.5, 100.0)
+"""The record's x span, in film thicknesses, that the inversion takes (beyond 100 h its traction
+nodes, h/8 apart, make matrices of > 1 GB; below 0.5 h the record sees no contact; x in
+millimetres under an ``x_m`` header falls outside)."""
+
+
+def _check_span(x, h):
+    """The record's span and step against the film thickness h [m] (``SPAN_RANGE_H``; a step
+    of at most h, the scale on which base stresses vary)."""
+    span, step = float(x[-1] - x[0]), float(x[1] - x[0])
+    lo, hi = SPAN_RANGE_H
+    if not lo * h <= span <= hi * h or step > h:
+        raise InputError(f"x_m spans {span:.3g} m in steps of {step:.3g} m, i.e. {span / h:.3g} "
+                         f"film thicknesses ({named('thickness')} {h:g} m): the inversion takes "
+                         f"records spanning {lo:g} ... {hi:g} thicknesses with a step of at most "
+                         f"one (is x in metres, the thickness right?)")
 
 
 def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float = 0.5,
@@ -238,6 +263,7 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
     h = check_positive("thickness", thickness, "m")
     nu = check_poisson(poisson)
     x, dz, dxz = _check_record(x_m, zz_Pa, xz_Pa)
+    _check_span(x, h)
     if prior not in ("contact", "envelope"):
         raise InputError(f"prior must be 'contact' or 'envelope'; got {prior!r}")
     if view not in ("base", "sensor"):
@@ -254,6 +280,11 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
         a, b = (float(s) for s in support)
         if not (math.isfinite(a) and math.isfinite(b) and b > a):
             raise InputError(f"support must be an interval (a, b) with b > a [m]; got {support}")
+        lo, hi = x[0] - MARGIN_H * h, x[-1] + MARGIN_H * h  # where the tractions are modelled
+        if a < lo or b > hi:
+            raise InputError(f"{named('support')} {a:g} {b:g}: the known contact must lie within "
+                             f"the record extended by {MARGIN_H:g} thicknesses, [{lo:.6g}, "
+                             f"{hi:.6g}] m")
         sup_h = (a / h, b / h)
     points = x.size
     x, dz, dxz, nbin = _bin(x, dz, dxz, BIN_STEP_H * h)
