@@ -40,7 +40,7 @@ import time
 
 import numpy as np
 
-from ..errors import ConvergenceError, InputError
+from ..errors import ConvergenceError, InputError, named
 from ..numerics.contact import solve_contact
 from ..numerics.edges import fit_edges, peak
 from ..numerics.fft import get_rfft
@@ -49,7 +49,7 @@ from ..numerics.partial_slip import SlipState
 from ..physics.film import Film
 from ..physics.indenters import Cylinder
 from ..physics.scene import Scene, Scene3D, check_tol
-from .base import check_grid_points
+from .base import ONSET_MU_MIN, check_grid_points, check_onset_mu  # noqa: F401 (re-exported)
 from .fft import MAX_POINTS, MIN_POINTS, solve_fft
 from .onset_core import (
     Dimension,
@@ -101,8 +101,7 @@ def check_onset_scene(scene) -> Scene:
     if scene.interface_compliance or scene.interface_law != "linear":
         raise InputError("--interface-compliance / --interface-law: onset takes a rigid "
                          "interface only")
-    if scene.mu == 0.0:
-        raise InputError("--mu must be != 0 for onset (the tangential load goes up to mu P)")
+    check_onset_mu(scene.mu)
     if scene.load <= 0.0:
         raise InputError("--load must be > 0 N/m for onset")
     return scene
@@ -112,7 +111,7 @@ def _check_amplitude(amplitude) -> float:
     amp = amplitude if isinstance(amplitude, (int, float)) and not isinstance(amplitude, bool) \
         else math.nan
     if not 0.0 < amp <= 1.0:
-        raise InputError(f"amplitude (--amplitude) must be in (0, 1] (Q_max / (mu P)); got "
+        raise InputError(f"{named('amplitude')} must be in (0, 1] (Q_max / (mu P)); got "
                          f"{amplitude!r:.40}")
     return float(amp)
 
@@ -276,10 +275,10 @@ def onset(scene: Scene | None = None, *, steps: int = 20, tol: float | None = No
         loading_steps = _check_int("loading_steps (--loading-steps)", loading_steps, 1,
                                    MAX_STEPS)
         if loading not in LOADINGS:
-            raise InputError(f"loading (--loading) must be one of {', '.join(LOADINGS)}; got "
+            raise InputError(f"{named('loading')} must be one of {', '.join(LOADINGS)}; got "
                              f"{loading!r}")
         amp = _check_amplitude(amplitude)
-        grid_points = check_grid_points(grid_points, 32, 8192, "grid_points (--grid-points)",
+        grid_points = check_grid_points(grid_points, 32, 8192, "the onset's grid",
                                         even=True)
         L_h = None
         if domain_length is not None:
@@ -321,10 +320,10 @@ def solve_onset(scene: Scene, steps: int = 20, tol: float = DEFAULT_TOL, *, load
     loading_steps = _check_int("loading_steps (--loading-steps)", loading_steps, 1, MAX_STEPS)
     path = q_path(steps, _check_amplitude(amplitude), bool(cycle))
     if loading not in LOADINGS:
-        raise InputError(f"loading (--loading) must be one of {', '.join(LOADINGS)}; got {loading!r}")
+        raise InputError(f"{named('loading')} must be one of {', '.join(LOADINGS)}; got {loading!r}")
     tol = check_tol(tol)
     grid_points = check_grid_points(grid_points, MIN_POINTS, MAX_POINTS,
-                                    "grid_points (--grid-points)", even=True)
+                                    "the onset's grid", even=True)
     film = Film(poisson=scene.poisson)
     P, mu = scene.P, scene.mu
     accept = max(1e-8, 1e-2 * tol)

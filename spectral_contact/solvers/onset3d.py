@@ -32,6 +32,7 @@ from ..numerics.partial_slip import SlipState2D
 from ..physics.film import Film
 from ..physics.indenters import Paraboloid
 from ..physics.scene import Scene3D, check_tol
+from .base import check_onset_mu
 from .fft3d import MAX_POINTS_3D, MIN_POINTS_3D, solve_fft3d
 from .onset_core import (
     Dimension,
@@ -61,8 +62,7 @@ def check_onset_scene3d(scene) -> Scene3D:
                          f"only (Coulomb's |q| <= mu p)")
     if scene.interface_compliance:
         raise InputError("--interface-compliance: onset takes a rigid interface only")
-    if scene.mu == 0.0:
-        raise InputError("--mu must be != 0 for onset (the tangential load goes up to mu P)")
+    check_onset_mu(scene.mu)
     if scene.force <= 0.0:
         raise InputError("--force must be > 0 N for onset")
     return scene
