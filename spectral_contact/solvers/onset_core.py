@@ -159,10 +159,10 @@ def load_step_estimates(coarse, run, path, loading: str, loading_steps: int, dif
     compared with ``coarse`` at the common steps.  The stick edges jump between nodes and the
     history's errors add up, so the error falls more slowly than first order in the step:
     measured (studies/onset_steps) 1.5 x the difference to N/2 fell short at 0.75-0.95 of the
-    true error in 7 of 36 steps; for an order p >= 0.58 the error of N steps is at most
-    2 x the difference to N/2 (3 x that to 2N), used here times LEVEL_MARGIN.  A step between
-    two compared ones takes the larger of theirs.  Returns (main, stick) lists as ``differences``'s, one
-    per step (0 = loaded), and the extra run's counters."""
+    true error in 6 of 42 steps (besides gross sliding); for an order p >= 0.58 the error of N
+    steps is at most 2 x the difference to N/2 (3 x that to 2N), used here times LEVEL_MARGIN.
+    A step between two compared ones takes the larger of theirs.  Returns (main, stick) lists
+    as ``differences``'s, one per step (0 = loaded), and the extra run's counters."""
     nd = coarse.grid.shape[0]
     even_loading = loading != "frictional" or loading_steps % 2 == 0
     if len(path) % 2 == 0 and len(path) > 1 and even_loading:
