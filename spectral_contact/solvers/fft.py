@@ -46,6 +46,7 @@ from ..physics.viscoelastic import ViscoelasticFilm, film_of
 from ..result import ContactResult
 from .base import Method, check_grid_points, register
 from .fft3d import solve_fft3d
+from .visco_slow import slow_sliding
 
 __all__ = ["solve_fft", "FFTMethod", "MIN_POINTS", "MAX_POINTS"]
 
@@ -292,6 +293,11 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     mu_contact = scene.mu if model == "exact" else 0.0
     film = film_of(scene)  # lengths in h: thickness 1 (Film; ViscoelasticFilm when sliding)
     visco = isinstance(film, ViscoelasticFilm)
+    if visco and grid_points is None and domain_length is None:
+        # slow sliding: the relaxed elastic solve + the first-order correction (visco_slow)
+        slow = slow_sliding(scene, film, model, tol, solve_fft)
+        if slow is not None:
+            return slow
     margin = film.domain_margin(tol)  # images ~ tol/100 x O(1)
     # residual (relative displacement / pressure / load) accepted from each contact solve:
     # far below tol, but not below what round-off allows for very wide contacts
