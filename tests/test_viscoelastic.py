@@ -281,3 +281,13 @@ def test_slow_sliding_first_order_theory(sign):
     assert slow.base_sigma_zz.sum() * dx == pytest.approx(-slow.pressure.sum() * dx, rel=1e-9)
     # beyond the theory's range (remainder > tol/4) the full solve runs
     assert "slow_sliding" not in solve(speed=0.05, **kw).info
+
+
+def test_sphere_period_too_short_for_the_tail_is_refused():
+    """3D: a user period that holds the contact and the elastic decay but not the relaxation
+    tail behind the contact (V tau_r = 10 h here) is refused in one message naming the tail."""
+    kw = dict(indenter="sphere", force=1.0, mu=0.0, speed=1.0, prony=SLS, tol=1e-2)
+    with pytest.raises(InputError, match="relaxation tail"):
+        solve(**kw, domain_length=(0.08, 0.04))  # 40 h x 20 h (elastic need ~10 h)
+    # the same period is fine for the elastic film
+    solve(indenter="sphere", force=1.0, mu=0.0, tol=1e-2, domain_length=(0.08, 0.04))

@@ -261,12 +261,16 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
         # a user period must hold the contact plus the decay of its images to tol/2
         free = math.log(2.0 / tol) / film.decay_rate
         need = (width_x + free, width_y + free)
+        if visco:  # and along x the relaxation tail behind the contact (issue 23)
+            need = (width_x + free + film.domain_margin(tol) - Film.domain_margin(film, tol),
+                    need[1])
         if any(L < n for L, n in zip(domain_length, need)):
             raise InputError(
                 f"domain_length ({domain_length[0]:.4g}, {domain_length[1]:.4g}) h is too short "
                 f"for this contact at tol {tol:g}: the periods must hold the contact "
                 f"({width_x:.3g} x {width_y:.3g} h) plus {free:.3g} h for its images to decay "
-                f"below tol/2: at least ({need[0]:.4g}, {need[1]:.4g}) h, or leave it automatic")
+                f"below tol/2{' (along x also the relaxation tail behind it)' if visco else ''}: "
+                f"at least ({need[0]:.4g}, {need[1]:.4g}) h, or leave it automatic")
     guard = 4.0 * max(sol.grid.spacing)
     margin_y = Film.domain_margin(film, tol) if visco else margin  # the tail is along x
     L = domain_length or (width_x + margin + guard, width_y + margin_y + guard)
