@@ -34,8 +34,8 @@ def __getattr__(name):  # the sensor view needs scipy.special: imported on first
         value = getattr(mems_view, name)
         globals()[name] = value
         return value
-    if name == "invert":  # issue 21: the inverse, from base stresses to tractions
-        from .instruments.inverse import invert
+    if name == "invert":  # issue 21: the inverse, from base stresses to tractions (lines, maps)
+        from .instruments.inverse_maps import invert
 
         globals()[name] = invert
         return invert

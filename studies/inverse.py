@@ -13,15 +13,19 @@ of each component, one record per seed:
      the contact edges;
    * mu_varying: the pressure of the mu_d = 0.5 solve with q = mu(x) p, mu(x) = 0.5 + 0.3
      (x - x_c)/a, through the film's base transfer (``inverse.base_from_tractions``).
-   Per record: L2 errors of p and q over the nodes (relative to the truth's norm), the share of
-   nodes where the 2-sd band covers the truth on the central 70 % of the contact and on the whole
-   contact, z-scores of P and Q ((estimate - truth)/sigma) and their relative errors.
+   Every record has its own noise draw (seed 1000 case + 100 view + s).  Per record: L2 errors
+   of p and q over the nodes (relative to the truth's norm), the share of nodes where the 2-sd
+   band covers the truth on the central 70 % of the contact and on the whole contact, z-scores
+   of P and Q ((estimate - truth)/sigma) and their relative errors, the CPU seconds.
+   Positivity (``positive=True``): a third of the seeds again for amontons and strength
+   (base view): the constrained mode's coverage.
 2. error and coverage against the noise (0.3, 1, 3 %) and against the contact's size in film
    thicknesses (h = 1, 2, 4 mm at the same scene: a/h = 2.3, 1.2, 0.6), with/without apparatus.
 3. the paper's route (P = Int S_zz dx, Q/P = Int S_xz / Int S_zz over the record) against the
    local route on the same records, and whether a shear strength is told from Amontons at the
    paper's noise: the share of seeds where Amontons loses by AIC > 2 (strength case).
-4. speed: a record of 10^4 samples (median of 3 warm runs; the machine's load beside it).
+4. speed: CPU seconds (``time.process_time``) of records of 401 and 10^4 samples, with and
+   without the hyperparameters' propagation (median of warm runs; the load beside it).
 
 Writes inverse_calibration.csv (one row per record), inverse_summary.csv (means over seeds),
 inverse_sweep.csv, inverse_routes.csv, inverse_speed.csv, inverse_example.csv (a record a new
@@ -131,25 +135,31 @@ def main(argv=None) -> int:
                       extra=lambda p: p.add_argument("--seeds", type=int, default=None,
                                                      help="noise seeds per calibration case "
                                                           "(20; --quick 2)"))
-    seeds = args.seeds or (2 if args.quick else 20)
+    seeds = args.seeds or (2 if args.quick else 10)
     t0 = time.perf_counter()
     cases = ("amontons", "strength", "mu_varying")
     truths = {c: truth(c) for c in cases}
-    # 1. calibration
+    # 1. calibration: an independent noise draw for every record (seed 1000 case + 100 view + s)
     rows = []
-    n = len(cases) * 2 * seeds
-    for case in cases:
-        for view in ("base", "sensor"):
-            for seed in range(seeds):
-                zz, xz = record(truths[case], view, 0.01, seed)
-                inv = invert_line(X, zz, xz, view=view)
-                rows.append({"case": case, "view": view, "noise": 0.01, "seed": seed,
-                             **score(truths[case], inv)})
-                print(f"  [{len(rows)}/{n}] {case} {view} seed {seed} "
-                      f"({time.perf_counter() - t0:.0f} s)", file=sys.stderr, flush=True)
+    npos = max(1, seeds // 3)
+    n = len(cases) * 2 * seeds + 2 * npos
+    runs = [(case, view, False, s) for case in cases for view in ("base", "sensor")
+            for s in range(seeds)]
+    runs += [(case, "base", True, s) for case in ("amontons", "strength") for s in range(npos)]
+    for case, view, positive, s in runs:
+        seed = 1000 * cases.index(case) + 100 * (view == "sensor") + 50 * positive + s
+        zz, xz = record(truths[case], view, 0.01, seed)
+        c0 = time.process_time()
+        inv = invert_line(X, zz, xz, view=view, positive=positive)
+        rows.append({"case": case, "view": view, "positive": positive, "noise": 0.01,
+                     "seed": seed, "cpu_s": time.process_time() - c0,
+                     **score(truths[case], inv)})
+        print(f"  [{len(rows)}/{n}] {case} {view}{' positive' if positive else ''} seed {seed} "
+              f"({time.perf_counter() - t0:.0f} s)", file=sys.stderr, flush=True)
     write_rows(rows, out / "inverse_calibration.csv",
                "inverse calibration: one row per record (1 % noise, 401 samples over +-10 mm)")
-    summ = summarise(rows, ("case", "view"))
+    summ = summarise(rows, ("case", "view", "positive"))
+    summ.append(summarise([dict(r, all="all") for r in rows if not r["positive"]], ("all",))[0])
     table(summ, out / "inverse_summary.csv",
           f"inverse calibration, 1 % noise, {seeds} seeds per row: L2 errors, 2-sd coverage "
           f"(central 70 % / whole contact), P and Q z-scores")
@@ -159,14 +169,14 @@ def main(argv=None) -> int:
     for view in ("base", "sensor"):
         for noise in ((0.01,) if args.quick else (0.003, 0.01, 0.03)):
             for seed in range(s2):
-                zz, xz = record(truths["amontons"], view, noise, 100 + seed)
+                zz, xz = record(truths["amontons"], view, noise, 5000 + seed)
                 sweep.append({"sweep": "noise", "view": view, "noise": noise, "a_over_h": 1.17,
                               **score(truths["amontons"], invert_line(X, zz, xz, view=view))})
         for h in ((0.001,) if args.quick else (0.001, 0.004)):
             tr = truth("amontons", h)
             a_over_h = 0.5 * (tr[0][tr[1] > 0].max() - tr[0][tr[1] > 0].min()) / h
             for seed in range(s2):
-                zz, xz = record(tr, view, 0.01, 200 + seed)
+                zz, xz = record(tr, view, 0.01, 6000 + seed)
                 sweep.append({"sweep": "thickness", "view": view, "noise": 0.01,
                               "a_over_h": round(a_over_h, 3),
                               **score(tr, invert_line(X, zz, xz, thickness=h, view=view))})
@@ -177,9 +187,10 @@ def main(argv=None) -> int:
           "inverse: means over seeds against noise and contact half-width / h")
     # 3. routes: the paper's two integrals against the local route (sensor view, 1 % noise)
     routes = []
-    for case in cases:
+    for ci, case in enumerate(cases):
         x, p, q, szz, sxz, P, Q = truths[case]
-        for seed in range(min(seeds, 5)):
+        for s in range(min(seeds, 5)):
+            seed = 1000 * ci + 100 + s  # the calibration's sensor records
             zz, xz = record(truths[case], "sensor", 0.01, seed)
             Pi, Qi = float(np.trapezoid(zz, X)), float(np.trapezoid(xz, X))
             inv = invert_line(X, zz, xz, view="sensor")
@@ -196,19 +207,23 @@ def main(argv=None) -> int:
     table(routes, out / "inverse_routes.csv",
           "paper's route (integrals over the +-10 mm record) vs the local route (sensor view, 1 % "
           "noise)")
-    # 4. speed
-    xs = np.linspace(-10e-3, 10e-3, 10_000)
-    zz, xz = record(truths["amontons"], "base", 0.01, 0, xs)
-    invert_line(xs, zz, xz)
-    ts = []
-    for _ in range(1 if args.quick else 3):
-        t = time.perf_counter()
-        invert_line(xs, zz, xz)
-        ts.append(time.perf_counter() - t)
-    load = os.getloadavg()[0]
-    table([{"samples": xs.size, "median_s": float(np.median(ts)), "load_1min": load,
-            "cores": os.cpu_count()}], out / "inverse_speed.csv",
-          "inverse: a 10^4-sample record, median wall time of warm runs (loaded machine: see load)")
+    # 4. speed: CPU time of the solve (time.process_time) for 401 and 10^4 samples
+    speed = []
+    for ns in (401, 10_000):
+        xs = np.linspace(-10e-3, 10e-3, ns)
+        zz, xz = record(truths["amontons"], "base", 0.01, 0, xs)
+        invert_line(xs, zz, xz, hyper=False)
+        for hyper in (False, True):
+            ts = []
+            for _ in range(1 if args.quick else 3):
+                c0 = time.process_time()
+                invert_line(xs, zz, xz, hyper=hyper)
+                ts.append(time.process_time() - c0)
+            speed.append({"samples": ns, "hyper_propagated": hyper,
+                          "median_cpu_s": float(np.median(ts)), "load_1min": os.getloadavg()[0],
+                          "cores": os.cpu_count()})
+    table(speed, out / "inverse_speed.csv",
+          "inverse: CPU seconds of one inversion (median of warm runs; process_time, one thread)")
     # example record for a new user (strength case, sensor-free, 1 % noise)
     x, p, q, szz, sxz, P, Q = truths["strength"]
     rng = np.random.default_rng(0)

@@ -1,6 +1,6 @@
 """Peers: the frictionless contact against ContactMechanics and tamaas, on the same grid.
 
-    python -m studies.peers [--quick] [--out DIR]
+    python -m studies.peers [--quick] [--surfaces] [--out DIR]
 
 The peers are optional (``pip install contactmechanics tamaas``); each one that is missing is
 reported "absent" and the study still does what it can (exit status 0).
@@ -44,6 +44,7 @@ E. "surfaces" (issue 25, ``surface_comparison``): the frictionless sphere of the
    Westergaard and the same symbol from Python; ContactMechanics' 2D half-space).  Equal
    accuracy and timing as D; ours is the core fixed-grid solve (``solve_contact``, cold).
    Writes peers_surface.csv; ``surface_targets`` gives the ">= 5x tamaas at 1024^2" rows.
+   ``--surfaces`` runs this case only.
 
 Same scene, same grid (cases A-C): our automatic solve at ``tol`` fixes the period L and the number of
 points N (its final level); every solver, ours included (``numerics.contact.solve_contact``,
@@ -846,8 +847,22 @@ def surface_targets(rows: list[dict], level: float = LEVEL) -> list[dict]:
     return out
 
 
+def _surfaces(args, out, versions) -> int:
+    """Case E: peers_surface.csv and the issue-25 target lines."""
+    surf = surface_comparison((8,) if args.quick else SURFACE_EXPS,
+                              repeats=3 if args.quick else 5, versions=versions)
+    table(surf, out / "peers_surface.csv",
+          f"E: frictionless sphere (1 N, R 130 mm, film h 2 mm, period 30 mm), N x N grids, each "
+          f"solver at the loosest tolerance giving p within {LEVEL:g} max p of ours at rtol "
+          f"{REF_RTOL:g}; time_ratio = time / ours")
+    for t in surface_targets(surf):
+        print(f"{t['target']}: {t['measured']:.3g} (>= {t['limit']:g}: {t['status']})")
+    return 0
+
+
 def main(argv=None) -> int:
-    args, out = parse(argv, __doc__.splitlines()[0], "out/peers")
+    args, out = parse(argv, __doc__.splitlines()[0], "out/peers", extra=lambda p: p.add_argument(
+        "--surfaces", action="store_true", help="case E only (the surface peers, issue 25)"))
     versions = peers_available()
     for name, v in versions.items():
         print(f"{name}: {v}")
@@ -855,6 +870,8 @@ def main(argv=None) -> int:
     if absent:
         print(f"peers absent: {', '.join(absent)} -- their rows say so; install with "
               f"`pip install contactmechanics tamaas` (or the 'peers' extra)")
+    if args.surfaces:
+        return _surfaces(args, out, versions)
     tol = 1e-3 if args.quick else 1e-4
     s_thick = 0.05 if args.quick else 0.02
     t0 = time.perf_counter()
@@ -898,14 +915,7 @@ def main(argv=None) -> int:
           f"{LEVEL:g} max p of ours at rtol {REF_RTOL:g}; time_ratio = time / ours")
     for t in peer_targets(fixed):
         print(f"{t['target']}: {t['measured']:.3g} (>= {t['limit']:g}: {t['status']})")
-    surf = surface_comparison((8,) if args.quick else SURFACE_EXPS,
-                              repeats=3 if args.quick else 5, versions=versions)
-    table(surf, out / "peers_surface.csv",
-          f"E: frictionless sphere (1 N, R 130 mm, film h 2 mm, period 30 mm), N x N grids, each "
-          f"solver at the loosest tolerance giving p within {LEVEL:g} max p of ours at rtol "
-          f"{REF_RTOL:g}; time_ratio = time / ours")
-    for t in surface_targets(surf):
-        print(f"{t['target']}: {t['measured']:.3g} (>= {t['limit']:g}: {t['status']})")
+    _surfaces(args, out, versions)
     try:
         _plot(plots, out / "peers.png")
         print(f"(written {out / 'peers.png'})")

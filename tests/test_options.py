@@ -254,8 +254,122 @@ def test_the_json_keys_are_the_declared_ones():
                                                   "interface_pressure_Pa", "interface_length_m"}
     keys |= set(FrictionLaw("power", exponent=0.1, pref=1e4).describe())
     keys |= set(FrictionLaw("linear", shear_strength=1.0, shear_slope=1.0).describe())
+    keys |= set(solve(load=200.0, mu=0.5, speed=0.05, prony="2.2e6,0.01", tol=1e-2).to_dict())
     assert {o.json for o in OPTIONS if o.json} <= keys
     assert FrictionLaw("power", exponent=0.1, pref=1e4).describe() == {
         "friction_law": "power", "friction_exponent": 0.1, "friction_pref_Pa": 1e4}
     assert FrictionLaw("linear", shear_strength=5.0, shear_slope=2.0).describe() == {
         "friction_law": "linear", "shear_strength_Pa": 5.0, "shear_slope": 2.0}
+
+
+# --- issue 20/23: the viscoelastic film's options are rows of the one declaration -----------------
+
+@pytest.mark.parametrize("prony, accepted", [
+    ("2.2e6,0.01", True), ("1e6,0.1,5e5,1", True), ("1,2,3", False), ("1e6,-0.1", False),
+    ("1e6,x", False), ("1e6,0", False), ("inf,1", False)])
+def test_prony_is_parsed_in_one_place_for_every_entry_point(prony, accepted, capsys):
+    """--prony: the command line, the sweep and Python accept and refuse the same series, each
+    message naming the option as typed (``--prony`` / ``prony``)."""
+    values = {"speed": 0.05, "mu": 0.5, "prony": prony}
+    py = _python(values)
+    assert (py is None) == accepted, py
+    cli = _command_line(values, capsys)
+    assert (cli is None) == accepted, cli
+    sw = _sweep_row(values) if _sweep is not None else py
+    assert (sw is None) == accepted, sw
+    if not accepted:
+        assert "--prony" in cli and "prony" in py and "--prony" not in py, (cli, py)
+        assert "prony" in sw
+    else:
+        (params,) = _sweep.scenes(values)
+        assert _sweep.scene_of(params) == make_scene(**values) == scene_from_args(
+            _solve_parser().parse_args(_argv(values)[1:]))
+
+
+def test_prony_needs_speed_on_the_command_line_and_in_a_sweep(capsys):
+    assert main(["solve", "--prony", "2.2e6,0.01"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "--prony needs --speed" in err
+    if _sweep is not None:
+        with pytest.raises(InputError, match="prony needs speed"):
+            _sweep.scenes({"prony": "2.2e6,0.01"})
+    # Python keeps the field's default (speed 0: the relaxed film)
+    assert make_scene(prony="2.2e6,0.01").speed == 0.0
+
+
+def test_speed_and_prony_are_solve_options_only():
+    """onset does not take a viscoelastic film: its parser has no --speed/--prony."""
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    onset = {a.dest for a in sub.choices["onset"]._actions}
+    assert "speed" not in onset and "prony" not in onset and "mu" in onset
+
+
+def test_a_sweep_over_speed_runs(tmp_path, capsys):
+    """--speed is a sweep option: the rows are the solves of their scenes (the deformation
+    friction grows from the relaxed film's with the speed), several Prony series by ';'."""
+    pytest.importorskip("pandas")
+    assert main(["sweep", "--speed", "0,0.02,0.05", "--prony", "2.2e6,0.01;1e6,0.1", "--mu",
+                 "0.5", "--tol", "1e-2", "--serial", "--out", str(tmp_path / "o")]) == 0
+    import pandas as pd
+
+    df = pd.read_csv(tmp_path / "o" / "summary.csv")
+    assert len(df) == 6 and set(df["status"]) == {"ok"}
+    first = df[df["prony_terms"] == "[[2200000.0;0.01]]"]
+    assert first["speed_m_per_s"].tolist() == [0.0, 0.02, 0.05]
+    r = solve(load=200.0, mu=0.5, speed=0.05, prony="2.2e6,0.01", tol=1e-2).summary()
+    assert first["deformation_friction"].iloc[2] == pytest.approx(r["deformation_friction"], rel=1e-12)
+    assert first["deformation_friction"].iloc[0] < first["deformation_friction"].iloc[2]
+
+
+def test_the_thickness_is_checked_once_from_calibrate_to_the_base_stresses(monkeypatch, tmp_path,
+                                                                          capsys):
+    """issue 20: calibrate --punch-load checked --thickness three times (the command, the
+    axisymmetric instrument, the film); the film is made once, where the value enters."""
+    from pathlib import Path
+
+    from spectral_contact.instruments import axisym
+    from spectral_contact.physics.options import Option
+
+    seen = []
+    real = Option.check
+
+    def counting(self, value):
+        if self.name == "thickness":
+            seen.append(value)
+        return real(self, value)
+
+    monkeypatch.setattr(Option, "check", counting)
+    axisym.flat_punch_base_stresses(1.0, 250e-6, 2e-3, dx_m=1e-4, r_max_m=4e-3)
+    assert seen == [2e-3]  # Python: at the instrument's entry
+    seen.clear()
+    scan = Path(__file__).resolve().parents[1] / "examples" / "synthetic_punch_scan.csv"
+    assert main(["calibrate", "--measured", str(scan), "--punch-load", "0.1", "--n-boot", "0",
+                 "--out", str(tmp_path / "g.csv")]) == 0, capsys.readouterr().err
+    assert seen == [option("thickness").default]  # the command line: once, by the command
+    assert main(["calibrate", "--measured", str(scan), "--punch-load", "0.1",
+                 "--thickness=-1"]) == 2
+    assert "--thickness" in capsys.readouterr().err
+
+
+def test_a_film_kind_is_named_by_its_module_and_the_scene_only():
+    """issue 20: a new film kind touches at most 3 package files -- its module, its option rows
+    and ``Scene.core_film`` (the one place that builds the solvers' film).  The viscoelastic
+    film: the solvers and every other module use it through ``Film``'s interface only."""
+    import ast
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1] / "spectral_contact"
+    naming = set()
+    for path in root.rglob("*.py"):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Name) and node.id == "ViscoelasticFilm" or \
+                    isinstance(node, ast.alias) and node.name == "ViscoelasticFilm":
+                naming.add(path.relative_to(root).as_posix())
+    assert naming == {"physics/viscoelastic.py", "physics/scene.py"}, naming
+    opts = [o.name for o in OPTIONS if o.name in ("speed", "prony")]
+    assert opts == ["speed", "prony"]  # its parameters: rows of the one declaration
+    scene = make_scene(speed=0.05, prony="2.2e6,0.01", mu=0.5)
+    film = scene.core_film()
+    assert film.moving and film.thickness == 1.0 and film.speed == 0.05 / scene.thickness
+    assert not make_scene(speed=0.0, prony="2.2e6,0.01").core_film().moving  # relaxed: Film

@@ -163,7 +163,7 @@ def test_sweep_plot_and_profile_index(tmp_path, capsys, monkeypatch):
                  "--out", "o", "--profiles", "--plot", "p.png"]) == 0
     assert (tmp_path / "p.png").stat().st_size > 1000
     index = pd.read_csv(tmp_path / "o" / "profiles" / "index.csv")
-    assert list(index.columns[:2]) == ["file", "maps_file"] and {"load", "mu"} <= set(index.columns)
+    assert list(index.columns[:2]) == ["file", "maps_file"] and {"load_N_per_m", "mu"} <= set(index.columns)
     assert all((tmp_path / "o" / "profiles" / f).is_file() for f in index["file"])
     summary = pd.read_csv(tmp_path / "o" / "summary.csv")
     assert [f"{k}.csv" for k in summary["key"]] == index["file"].tolist()

@@ -17,6 +17,7 @@ from spectral_contact.cli.main import main  # noqa: E402
 from spectral_contact.errors import ConvergenceError, InputError  # noqa: E402
 from spectral_contact.result import JSON_KEYS, JSON_KEYS_3D, MAP_KEYS, PROFILE_COLUMNS  # noqa: E402
 from spectral_contact.sweep import TIMING_COLUMNS, parse_values, scene_key, sweep  # noqa: E402
+from spectral_contact.sweep import engine as sweep_engine  # noqa: E402
 
 # 12 scenes: 3 loads x 2 friction coefficients x 2 models
 SPEC = {"load": "60:300:120", "mu": "0.5,2", "model": "exact,goodman", "tol": 1e-3}
@@ -94,16 +95,19 @@ def test_import_spectral_contact_does_not_import_pandas_or_distributed():
 def test_serial_table(serial):
     df, out, info = serial
     assert len(df) == 12 and set(df["status"]) == {"ok"} and info["solved"] == 12
-    summary = [f"solved_{k}" if k in ("model", "method", "mu", "grid_points") else k for k in JSON_KEYS]
+    chosen = ("model", "method", "grid_points", "domain_length_m")
+    given = {sweep_module.column(k) for k in sweep_module.OPTIONS}
+    summary = [f"solved_{k}" if k in chosen else k for k in JSON_KEYS if k in chosen or k not in given]
     cols = list(df.columns)
     assert [cols.index(c) for c in summary] == sorted(cols.index(c) for c in summary)  # in order
     assert set(JSON_KEYS_3D) <= {c.removeprefix("solved_") for c in cols}
     # a row is the solve of its scene
     row = df.iloc[5]
-    r = solve(load=row["load"], mu=row["mu"], model=row["model"], tol=row["tol"]).summary()
+    r = solve(load=row["load_N_per_m"], mu=row["mu"], model=row["model"], tol=row["tol"]).summary()
     for k in ("half_width_m", "contact_center_m", "indentation_m", "max_pressure_Pa"):
         assert row[k] == r[k]
-    assert row["solved_model"] == row["model"] == "goodman" and row["solved_mu"] == row["mu"]
+    assert row["solved_model"] == row["model"] == "goodman" and row["mu"] == r["mu"]
+    assert row["young_Pa"] == r["young_Pa"] and row["solved_grid_points"] == r["grid_points"]
     # the CSV: one header row, plain read_csv, the same numbers
     csv = pd.read_csv(out / "summary.csv")
     assert list(csv.columns) == list(df.columns) and len(csv) == 12
@@ -174,7 +178,7 @@ def test_second_run_reuses_every_scene(serial, monkeypatch, capsys):
     def no_solve(params):
         raise AssertionError("a stored scene was solved again")
 
-    monkeypatch.setattr(sweep_module, "_solve", no_solve)
+    monkeypatch.setattr(sweep_engine, "_solve", no_solve)
     info = {}
     again = sweep(SPEC, out=out, engine="serial", info=info)
     assert info["reused"] == 12 and info["solved"] == 0
@@ -211,7 +215,7 @@ def test_interrupted_sweep_resumes(serial, tmp_path):
 
 
 def test_failing_scenes_are_rows(tmp_path, monkeypatch):
-    real = sweep_module._solve
+    real = sweep_engine._solve
 
     def flaky(params):
         if params["load"] < 0:
@@ -222,23 +226,23 @@ def test_failing_scenes_are_rows(tmp_path, monkeypatch):
             raise RuntimeError("boom\nsecond line")
         return real(params)
 
-    monkeypatch.setattr(sweep_module, "_solve", flaky)
+    monkeypatch.setattr(sweep_engine, "_solve", flaky)
     info = {}
     df = sweep(load="-5,100", mu="0,1,3", tol=1e-3, out=tmp_path, engine="serial",
                progress=False, info=info)
-    st = dict(zip(zip(df["load"], df["mu"]), df["status"]))
+    st = dict(zip(zip(df["load_N_per_m"], df["mu"]), df["status"]))
     assert st[(-5.0, 0.0)] == "input_error" and st[(100.0, 0.0)] == "ok"
     assert st[(100.0, 1.0)] == "not_converged" and st[(100.0, 3.0)] == "crashed"
-    bad = df[df["load"] == -5.0].iloc[0]
+    bad = df[df["load_N_per_m"] == -5.0].iloc[0]
     assert "load" in bad["message"] and np.isnan(bad["half_width_m"])
     assert df[df["mu"] == 3.0]["message"].iloc[1] == "RuntimeError: boom"
     assert info["statuses"] == {"ok": 1, "input_error": 3, "not_converged": 1, "crashed": 1}
     # crashed scenes are not stored: a rerun retries them (and only them)
-    monkeypatch.setattr(sweep_module, "_solve", real)
+    monkeypatch.setattr(sweep_engine, "_solve", real)
     df = sweep(load="-5,100", mu="0,1,3", tol=1e-3, out=tmp_path, engine="serial",
                progress=False, info=info)
     assert (info["reused"], info["solved"]) == (5, 1)
-    assert df[df["load"] == 100.0]["status"].tolist() == ["ok", "not_converged", "ok"]
+    assert df[df["load_N_per_m"] == 100.0]["status"].tolist() == ["ok", "not_converged", "ok"]
     csv = pd.read_csv(tmp_path / "summary.csv")
     assert csv["status"].tolist() == df["status"].tolist()
 
@@ -293,7 +297,7 @@ def test_cli_bad_specs_exit_2_before_any_solve(argv, tmp_path, monkeypatch, caps
     def no_solve(params):
         raise AssertionError("solved before the spec was checked")
 
-    monkeypatch.setattr(sweep_module, "_solve", no_solve)
+    monkeypatch.setattr(sweep_engine, "_solve", no_solve)
     assert main(["sweep", "--serial" if "--scheduler" not in argv and "--workers" not in argv
                  else "--json", *argv, "--out", "res"]) == 2
     assert set(tmp_path.iterdir()) == before  # nothing written
@@ -309,7 +313,7 @@ def test_a_scene_that_kills_its_worker_is_a_crashed_row(tmp_path, monkeypatch):
 
     class KillOnOneScene(WorkerPlugin):  # defined here: shipped to the workers by value
         def setup(self, worker):
-            import spectral_contact.sweep as m
+            import spectral_contact.sweep.engine as m
 
             real = m._solve
 
@@ -321,7 +325,7 @@ def test_a_scene_that_kills_its_worker_is_a_crashed_row(tmp_path, monkeypatch):
             m._solve = deadly
 
     # on a loaded machine the nanny may stop restarting workers: the sweep must not hang
-    monkeypatch.setattr(sweep_module, "NO_WORKER_SECONDS", 10.0)
+    monkeypatch.setattr(sweep_engine, "NO_WORKER_SECONDS", 10.0)
     client, cluster = local_client(2)
     try:
         client.register_plugin(KillOnOneScene())
@@ -330,7 +334,7 @@ def test_a_scene_that_kills_its_worker_is_a_crashed_row(tmp_path, monkeypatch):
     finally:
         client.close()
         cluster.close()
-    culprits = (df["load"] == 180.0) & (df["mu"] == 2.0)
+    culprits = (df["load_N_per_m"] == 180.0) & (df["mu"] == 2.0)
     assert len(df) == 12 and (df.loc[culprits, "status"] == "crashed").all()
     # dask counts a death against every task the worker held: a neighbour may be crashed too
     crashed = df[df["status"] == "crashed"]
@@ -450,7 +454,7 @@ def test_a_scheduler_without_workers_is_a_bad_spec(tmp_path):
 def test_a_cluster_that_loses_its_workers_does_not_hang(tmp_path, monkeypatch):
     from distributed import Client, LocalCluster
 
-    monkeypatch.setattr(sweep_module, "NO_WORKER_SECONDS", 1.0)
+    monkeypatch.setattr(sweep_engine, "NO_WORKER_SECONDS", 1.0)
     with LocalCluster(n_workers=1, processes=False, threads_per_worker=1, dashboard_address=None,
                       scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0"}) as cluster, \
             Client(cluster, set_as_default=False) as client:
@@ -479,14 +483,14 @@ SPEC3D = {"indenter": "sphere", "force": "0.5,1", "mu": "0,1", "tol": 1e-2}
 def test_3d_sweep_serial_and_local_cluster_agree(tmp_path):
     a = sweep(SPEC3D, out=tmp_path / "s", engine="serial", progress=False, profiles=True)
     b = sweep(SPEC3D, out=tmp_path / "l", workers=2, progress=False, profiles=True)
-    assert len(a) == 4 and set(a["status"]) == {"ok"} and set(a["solved_indenter"]) == {"sphere"}
+    assert len(a) == 4 and set(a["status"]) == {"ok"} and set(a["indenter"]) == {"sphere"}
     _same(a, b)
-    assert a["load"].isna().all() and a["contact_radius_m"].gt(0).all()
+    assert a["load_N_per_m"].isna().all() and a["contact_radius_m"].gt(0).all()
     r = solve(indenter="sphere", force=1.0, mu=1.0, tol=1e-2).summary()
-    row = a[(a["force"] == 1.0) & (a["mu"] == 1.0)].iloc[0]
+    row = a[(a["force_N"] == 1.0) & (a["mu"] == 1.0)].iloc[0]
     for k in ("contact_radius_m", "indentation_m", "max_pressure_Pa", "pressure_centroid_x_m"):
         assert row[k] == r[k]
-    assert row["solved_grid_points"] == r["grid_points"]
+    assert [row["solved_grid_points"], row["solved_grid_points_y"]] == r["grid_points"]
     for key in a["key"]:
         for d in ("s", "l"):
             assert (tmp_path / d / "profiles" / f"{key}.csv").is_file()
@@ -501,8 +505,8 @@ def test_line_and_3d_in_one_table(tmp_path):
                progress=False)
     line, sphere = df[df["indenter"] == "line"], df[df["indenter"] == "sphere"]
     assert len(line) == len(sphere) == 2 and set(df["status"]) == {"ok"}
-    assert (line["load"] == 200.0).all() and line["force"].isna().all()  # defaults per indenter
-    assert (sphere["force"] == 1.0).all() and sphere["load"].isna().all()
+    assert (line["load_N_per_m"] == 200.0).all() and line["force_N"].isna().all()  # per indenter
+    assert (sphere["force_N"] == 1.0).all() and sphere["load_N_per_m"].isna().all()
     assert line["contact_radius_m"].isna().all() and sphere["half_width_m"].isna().all()
     assert len(pd.read_csv(tmp_path / "summary.csv")) == 4
     # a parameter of the other kind is a row with its status, not the end of the sweep
@@ -520,7 +524,7 @@ def test_summary_csv_opens_with_numpy_too(tmp_path):
     assert len(arr) == len(df) == 8 and len(arr.dtype.names) == len(df.columns)
     back = pd.read_csv(tmp_path / "summary.csv")
     assert back["half_width_m"].tolist()[:4] == df["half_width_m"].tolist()[:4]
-    grid = back.loc[back["indenter"] == "sphere", "solved_grid_points"].iloc[0]
-    assert json.loads(grid.replace(";", ",")) == df.loc[df["indenter"] == "sphere", "solved_grid_points"].iloc[0]
+    for c in ("solved_grid_points", "solved_grid_points_y", "solved_domain_length_y_m"):
+        assert back[c].equals(df[c].astype(float)), c  # numbers, lines and surfaces alike
     iv = back.loc[back["indenter"] == "line", "contact_intervals_m"].iloc[0]
     assert json.loads(iv.replace(";", ",")) == df.loc[df["indenter"] == "line", "contact_intervals_m"].iloc[0]

@@ -29,7 +29,9 @@ def register(subparsers) -> None:
                     "chosen by the evidence; totals P, Q, Q/P with sigmas, mu_local = q/p where "
                     "p > 3 sd, contact interval, resolution length, and fits of Amontons, "
                     "q = tau0 + alpha p and a power law to the local (p, q) pairs (JSON 'laws').")
-    p.add_argument("record", metavar="FILE", help="CSV line record (uniform x_m, >= 8 rows)")
+    p.add_argument("record", metavar="FILE", help="CSV line record (uniform x_m, >= 8 rows), or "
+                                                  "NPZ maps (x_m, y_m, base_sigma_*_Pa or "
+                                                  "S_*_Pa [x, y], as solve --maps writes them)")
     _scene_options(p, ("thickness", "poisson"),
                    {"thickness": "base stresses do not depend on E or R"})
     p.add_argument("--a-zz", type=_positive("--a-zz"), default=A_ZZ_MV_PER_BAR,
@@ -46,7 +48,9 @@ def register(subparsers) -> None:
                    help="known contact interval [m] (p = q = 0 outside)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--out", metavar="OUT.csv", help="write x_m, pressure_Pa, pressure_sd_Pa, "
-                                                    "shear_Pa, shear_sd_Pa, mu_local, mu_local_sd")
+                                                    "shear_Pa, shear_sd_Pa, mu_local, mu_local_sd"
+                                                    " (maps: an NPZ of x_m, y_m, pressure_Pa, "
+                                                    "shear_x_Pa, shear_y_Pa and each *_sd_Pa)")
     p.add_argument("--plot", metavar="FILE.png", help="tractions, mu_local, data fit, laws")
     p.set_defaults(func=_cmd_invert)
 
@@ -54,6 +58,10 @@ def register(subparsers) -> None:
 def _cmd_invert(args) -> int:
     import math
 
+    if str(args.record).lower().endswith(".npz"):  # maps: instruments.inverse_maps
+        from .invert_maps import cmd_invert_maps
+
+        return cmd_invert_maps(args)
     from ..instruments.inverse import invert_line, read_record
     from ..physics.scene import check_poisson
 

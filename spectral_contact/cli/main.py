@@ -132,32 +132,12 @@ def _apparatus_option(path):
     return load_apparatus_csv(path)
 
 
-def _add_visco_options(p):
-    p.add_argument("--speed", type=float, default=None,
-                   help="V [m/s], the sliding speed of a viscoelastic film (--prony), signed like "
-                        "--mu (default 0: the relaxed film)")
-    p.add_argument("--prony", default=None, metavar="E1,tau1[,E2,tau2,...]",
-                   help="Prony terms of a viscoelastic film: moduli E_i [Pa] and relaxation times "
-                        "tau_i [s]; --young is the relaxed modulus E_inf (needs --speed)")
-
-
-def _with_visco(scene, args):
-    """The scene with --speed, --prony (issue 23; unchanged when neither is given)."""
-    if args.prony is None:
-        return scene if args.speed is None else scene.with_(speed=args.speed)
-    from ..physics.viscoelastic import parse_prony
-
-    if args.speed is None:
-        raise InputError("--prony needs --speed V [m/s] (the sliding speed; 0: the relaxed film)")
-    return scene.with_(speed=args.speed, prony=parse_prony(args.prony))
-
-
 def _cmd_solve(args) -> int:
     from ..api import solve
     from ..physics.scene import Scene
     from .files import csv_file, json_ready, plan_outputs, staged, to_json, write_outputs
 
-    scene = _with_visco(scene_from_args(args), args)
+    scene = scene_from_args(args)
     if not isinstance(scene, Scene):
         return _cmd_solve3d(args, scene)
     if args.maps is not None:
@@ -366,9 +346,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     p = sub.add_parser("solve", help="solve one scene (default: the paper's)")
-    add_scene_options(p)
+    add_scene_options(p, "solve")
     add_solve_options(p)
-    _add_visco_options(p)  # issue 23 (not yet in physics.options' table)
     p.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
     p.add_argument("--profiles", metavar="FILE.csv", help="write the profiles (SI) as CSV")
     p.add_argument("--plot", metavar="FILE.png", help="plot pressure and base stresses (3D: maps)")

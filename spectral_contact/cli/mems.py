@@ -417,9 +417,10 @@ def _cmd_calibrate(args) -> int:
         S = _same_grid(r, rc, S, args.computed)
         source = args.computed
     elif args.punch_load:
-        from ..instruments.axisym import flat_punch_base_stresses
+        from ..instruments.axisym import film_of_thickness, flat_punch_base_stresses
 
-        dr, r_max, h = float(r[1] - r[0]), float(r[-1]), option("thickness").check(args.thickness)
+        film = film_of_thickness(args.thickness)  # the thickness checked once, here
+        dr, r_max, h = float(r[1] - r[0]), float(r[-1]), film.thickness
         if args.punch_radius >= r_max:
             raise InputError(f"calibrate: --punch-radius {args.punch_radius:g} m must be below the "
                              f"scan's reach r_max = {r_max:g} m ({args.measured}): the scan must "
@@ -440,7 +441,7 @@ def _cmd_calibrate(args) -> int:
                         f"(resample it)")
             raise InputError(f"calibrate: {blame} needs a plane grid of {n:.3g}^2 points "
                              f"(~{gb:.3g} GB): at most {_PLANE_MAX}^2; {hint}")
-        b = flat_punch_base_stresses(args.punch_load, args.punch_radius, h,
+        b = flat_punch_base_stresses(args.punch_load, args.punch_radius, film,
                                      dx_m=float(r[1] - r[0]), r_max_m=float(r[-1]))
         S = -b["sigma_zz_Pa"] if comp == "zz" else b["sigma_xz_Pa"]
         S = S[:r.size]

@@ -63,25 +63,27 @@ def register(subparsers) -> None:
 
 
 def _plot_axes(args, varying, columns):
-    """(x, group) of --plot, checked before any work (InputError naming the option)."""
-    from ..sweep import OPTIONS
+    """(x, group) of --plot as table columns (``load`` -> ``load_N_per_m``), checked before any
+    work (InputError naming the option); --plot-x/--plot-group take an option or its column."""
+    from ..sweep import OPTIONS, column, option_of
 
-    x = args.plot_x.replace("-", "_") if args.plot_x else (varying[0] if varying else None)
+    x = args.plot_x if args.plot_x else (varying[0] if varying else None)
     if x is None:
         raise InputError("--plot needs an option with several values (e.g. --load 50:400:50) or "
                          "--plot-x OPTION")
-    g = args.plot_group.replace("-", "_") if args.plot_group else next(
-        (k for k in varying if k != x), None)
+    x = option_of(x) or x
+    g = args.plot_group if args.plot_group else next((k for k in varying if k != x), None)
+    g = g if g is None else option_of(g) or g
     for opt, v in (("--plot-x", x), ("--plot-group", g)):
         if v is not None and v not in OPTIONS:
             raise InputError(f"{opt} {v}: not an option of sweep (one of "
-                             f"{', '.join(o.replace('_', '-') for o in OPTIONS)})")
+                             f"{', '.join(o.replace('_', '-') for o in OPTIONS)}, or its column)")
     if g == x:
         raise InputError(f"--plot-group {g} is also --plot-x: give two different options")
     if args.plot_y not in columns:
         raise InputError(f"--plot-y {args.plot_y}: not a column of the table (e.g. "
                          f"max_pressure_Pa, half_width_m, indentation_m, Q_over_P)")
-    return x, g
+    return column(x), g if g is None else column(g)
 
 
 def _plot_sweep(df, path, y, x, g):

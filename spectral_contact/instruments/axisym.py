@@ -45,9 +45,8 @@ from ..errors import InputError
 from ..numerics.fft import get_rfft
 from ..numerics.grid import Grid
 from ..physics.film import Film
-from ..physics.options import option
 
-__all__ = ["base_stresses_3d", "base_stresses_axisym", "flat_punch_transform",
+__all__ = ["base_stresses_3d", "film_of_thickness", "base_stresses_axisym", "flat_punch_transform",
            "uniform_disc_transform", "flat_punch_base_stresses", "punch_sensitivity",
            "plane_grid"]
 
@@ -60,17 +59,25 @@ def plane_grid(n: int, dx: float):
     return ky, kx, g.kmag
 
 
+def film_of_thickness(thickness_m) -> Film:
+    """The film of ``thickness_m`` [m] (a number, validated here: the one check, where the value
+    enters) or a ``Film`` already made (passed on as it is: issue 20, the thickness validated
+    once on the way from ``calibrate`` to the base stresses)."""
+    return thickness_m if isinstance(thickness_m, Film) else Film(thickness_m)
+
+
 def base_stresses_3d(szz_hat, tx_hat, ty_hat, kx, ky, thickness_m):
     """Base-stress spectra (sigma_zz, sigma_xz, sigma_yz at z = 0) from the surface-traction
     spectra (sigma_zz, sigma_xz, sigma_yz at z = h) on wavevectors (kx, ky) [1/m].  Any
-    broadcastable shapes; None tractions are zero."""
+    broadcastable shapes; None tractions are zero.  ``thickness_m``: h [m] or a ``Film``."""
     kx = np.asarray(kx, dtype=float)
     ky = np.asarray(ky, dtype=float)
     k = np.hypot(kx, ky)
     safe = np.where(k > 0, k, 1.0)
     direction = (np.where(k > 0, kx / safe, 1.0), np.where(k > 0, ky / safe, 0.0))  # e_x at 0
     tau = (0.0 if tx_hat is None else tx_hat, 0.0 if ty_hat is None else ty_hat)
-    out_zz, (out_x, out_y) = Film(float(thickness_m)).base_transfer(direction, k, szz_hat, tau)
+    film = film_of_thickness(thickness_m)
+    out_zz, (out_x, out_y) = film.base_transfer(direction, k, szz_hat, tau)
     return out_zz, out_x, out_y
 
 
@@ -110,7 +117,8 @@ def base_stresses_axisym(thickness_m: float, *, pressure_transform=None, r_m=Non
     sigma_rz(r) x / r), r from 0 to ``r_max_m`` (default 8 h) in steps ``dx_m`` (default h/32);
     the periodic grid extends ``margin_h`` film thicknesses beyond r_max (images < 1e-5).
     """
-    h = option("thickness").check(thickness_m)
+    film = film_of_thickness(thickness_m)  # h [m] or a Film: checked once
+    h = film.thickness
     if pressure_transform is None and (r_m is None or pressure_Pa is None):
         raise InputError("give pressure_transform, or r_m and pressure_Pa")
     if r_m is not None:
@@ -142,7 +150,7 @@ def base_stresses_axisym(thickness_m: float, *, pressure_transform=None, r_m=Non
                 cy = np.where(rr > 0, c[:, None] / np.where(rr > 0, rr, 1.0), 0.0)
             tx_hat = fft.forward(tr * cx) * dx * dx
             ty_hat = fft.forward(tr * cy) * dx * dx
-    zz_hat, xz_hat, _ = base_stresses_3d(-p_hat, tx_hat, ty_hat, kx, ky, h)
+    zz_hat, xz_hat, _ = base_stresses_3d(-p_hat, tx_hat, ty_hat, kx, ky, film)
     szz = fft.backward(zz_hat) / (dx * dx)
     sxz = fft.backward(xz_hat) / (dx * dx)
     m = int(round(r_max / dx)) + 1
@@ -154,7 +162,8 @@ def flat_punch_base_stresses(load_N: float = 1.0, radius_m: float = 250e-6,
                              thickness_m: float = 2e-3, dx_m: float | None = None,
                              r_max_m: float | None = None) -> dict:
     """Radial base-stress profiles under a frictionless rigid flat punch (half-space pressure
-    distribution, see the module docstring).  Linear in ``load_N``."""
+    distribution, see the module docstring).  Linear in ``load_N``; ``thickness_m``: h [m] or
+    a ``Film``."""
     for name, v in (("load_N", load_N), ("radius_m", radius_m)):
         if not (math.isfinite(float(v)) and float(v) > 0):
             raise InputError(f"{name} must be > 0; got {v}")

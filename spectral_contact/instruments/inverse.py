@@ -10,35 +10,42 @@ or through the sensor's apparatus functions (``view="sensor"``: d = S, S_zz = G_
 S_xz = G_xz (*) d_xz, ``instruments.sensor``; U files are divided by the gains first).
 
 Forward map (linear).  The surface tractions p(x) = -sigma_zz(x, h) >= 0 and q(x) = sigma_xz(x, h)
-are expanded in hat functions on nodes t_j of step dt <= h/8 (the film does not resolve much
-below h/few) covering the record plus a margin of ``MARGIN_H`` h on each side, so that the
-tractions near and beyond the ends of the window are modelled (the base field decays only as
-exp(-0.74 |x|/h): the tails that leave the window are not wrapped back, they are simply not
-observed).  The response of one hat function at the base is computed through the film's public
-base-stress transfer (``physics.film.Film.base_transfer``, physics.md A, B, C) times the
-apparatus symbols, on a fine periodic grid (step <= h/128, period the record's span plus 40 h,
-images < 1e-9), and interpolated at the lags x_i - t_j: the matrix M (2n x 2m) with
-d = M (p, q) + noise.
+are expanded in hat functions on nodes t_j (``inverse_forward.LineForward``).  The response of
+one hat function at the base is computed through the film's public base-stress transfer
+(``physics.film.Film.base_transfer``, physics.md A, B, C) times the apparatus symbols, on a fine
+periodic grid (step <= h/128, period the record's span plus 40 h, images < 1e-9), and
+interpolated at the lags x_i - t_j: the matrix M (2n x 2m) with d = M (p, q) + noise.  The
+base field decays only as exp(-0.74 |x|/h): what lies beyond the record is modelled (nodes may
+lie outside the record; the tails their tractions send beyond it are simply not observed,
+never wrapped back).
 
-Prior and hyperparameters.  p and q are independent zero-mean Gaussian processes on the nodes,
-Matern-5/2 covariance s^2 (1 + r + r^2/3) exp(-r), r = sqrt(5)|t - t'|/l, each with its own
-amplitude s and length l.  The noise is white, Gaussian, with one standard deviation per
-component (sigma_zz, sigma_xz).  The six hyperparameters (l_p, l_q, s_p, s_q, sigma_zz, sigma_xz)
-maximise the evidence (the marginal likelihood of the data, Gaussian, in closed form); none is
-set by hand.  ``summary()`` reports them and the log-evidence.
+Prior (default ``prior="contact"``, ``inverse_prior``): the tractions of a contact.  p is a
+smooth (Matern-5/2) process times the square-root profile of a window (a smooth indenter's
+pressure falls as the square root of the distance to the contact's edge); q = mu0 p + a smooth
+multiple of the same profile (a local mu varying across the contact) + a constant on the window
+(a shear strength: q steps at the edges); a white nugget on every node.  The window (the contact
+interval), the amplitudes, lengths, mu0 and the two noise sd (one per data component, white,
+Gaussian) maximise the evidence (the marginal likelihood, closed form, analytic gradient); none
+is set by hand.  Two passes: nodes every h/4 over the record +- ``MARGIN_H`` h to place the
+window (three starts), then nodes every h/16 on the window +- 1.5 h (the tractions are zero
+beyond: the prior's statement), with a scan of each edge against a second maximum of the
+evidence.  ``prior="envelope"``: the previous prior (Matern-1/2 processes inside an
+evidence-placed logistic envelope, nodes every h/8 over the record +- ``MARGIN_H`` h), kept for
+tractions that are not a contact's (no square-root edges).
 
-Posterior.  Gaussian: mean and covariance of the nodal tractions, given the hyperparameters
-(their own uncertainty is not propagated: empirical Bayes).  From it:
+Posterior.  Gaussian given the hyperparameters; with ``hyper=True`` (default, contact prior)
+the hyperparameters' own uncertainty is added to first order (Laplace: S + J Sigma_theta J^T,
+``inverse_prior.propagate``).  From it:
 
 * P = Int p dx, Q = Int q dx (the hat functions integrate to dt) and Q/P, with sigmas from the
   covariance (Q/P by the first-order (delta) rule with the P-Q correlation);
 * pointwise sd of p, q; mu_local = q/p with its delta-rule sd where p is *resolved*: the
   posterior mean exceeds 3 sd (``RESOLVED_Z``);
-* the contact interval: on each of 400 posterior draws, the outermost crossings around the peak
-  of the level 2 * (median sd of p) (the level below which p is not distinguished from 0);
-  reported as the mean and sd of the two edges over the draws;
-* the resolution length: the equivalent width (Int R)^2 / Int R^2 of the row of the resolution
-  matrix R = I - C K^-1 (how the posterior mean averages the truth) at the peak of p.
+* the contact interval: the contact prior's window, with the sd of its edges from the Laplace
+  covariance of the hyperparameters (envelope prior: from 400 posterior draws, the outermost
+  crossings around the peak of the level 2 * (median sd of p));
+* the resolution length: pi / k_c, k_c the largest wavenumber whose sinusoid of the peak
+  pressure still shows in the data at 3 noise sd (``inverse_forward._resolution_length``).
 
 Options.  ``positive=True``: p >= 0 at every node; the mean is then the constrained maximum of
 the posterior (a bound-constrained quadratic programme) and the covariance that of the free
@@ -79,6 +86,7 @@ from .inverse_forward import (  # noqa: F401  (re-exported)
     base_from_tractions,
 )
 from .inverse_laws import fit_laws
+from .inverse_prior import TIE_MU_PART, fit_contact, propagate
 from .inverse_result import LineInversion
 
 __all__ = ["invert", "read_record", "invert_line", "LineInversion", "LineForward", "fit_laws",
@@ -98,6 +106,73 @@ INVERT_JSON_KEYS = ("load_N_per_m", "load_sigma_N_per_m", "tangential_load_N_per
 
 
 # --- the inversion ----------------------------------------------------------------------------
+
+
+def _regularisation(prior, theta, free, scale, h, hyper):
+    """The prior and its hyperparameters in SI (the JSON's ``regularisation``)."""
+    e = np.exp
+    if prior == "contact":
+        c, w0 = theta[0] * h, e(theta[1]) * h
+        return {"prior": "contact: p = sqrt-edged window x Matern-5/2 process; q = mu0 p + "
+                         "sqrt-edged x Matern-5/2 + window x Matern-5/2; white nugget",
+                "window_m": [float(c - w0), float(c + w0)] if free[0] else None,
+                "amplitude_p_Pa": float(e(theta[2]) * scale), "length_p_m": float(e(theta[3]) * h),
+                "mu0": float(theta[4]),
+                "amplitude_mu_part_Pa": float(e(theta[2] if TIE_MU_PART else theta[5]) * scale),
+                "length_mu_part_m": float(e(theta[6]) * h),
+                "amplitude_step_part_Pa": float(e(theta[2]) * scale),
+                "nugget_Pa": float(e(theta[9]) * scale),
+                "chosen_by": "maximum evidence (marginal likelihood)",
+                "hyperparameter_uncertainty": ("propagated (Laplace over the log-hyperparameters)"
+                                               if hyper else "not propagated")}
+    return {"prior": f"envelope: p, q Matern-{2 * KERNEL_NU:g}/2 Gaussian processes inside an "
+                     f"envelope + exponential-correlation process at its edges, zero mean",
+            "rough_amplitude_p_Pa": float(e(theta[10]) * scale),
+            "rough_amplitude_q_Pa": float(e(theta[11]) * scale),
+            "rough_length_m": float(e(theta[12]) * h),
+            "length_p_m": float(e(theta[0]) * h), "length_q_m": float(e(theta[1]) * h),
+            "amplitude_p_Pa": float(e(theta[2]) * scale), "amplitude_q_Pa": float(e(theta[3]) * scale),
+            "amplitude_outside_Pa": float(e(theta[4]) * scale) if free[4] else None,
+            "window_m": ([float((theta[7] - e(theta[8])) * h), float((theta[7] + e(theta[8])) * h)]
+                         if free[7] else None),
+            "window_edge_m": float(e(theta[9]) * h) if free[9] else None,
+            "chosen_by": "maximum evidence (marginal likelihood)",
+            "hyperparameter_uncertainty": "not propagated"}
+
+
+BIN_STEP_H = 1.0 / 32.0
+"""Records sampled finer than this [h] are averaged in consecutive groups of k samples (k the
+largest with k dx <= BIN_STEP_H h) before the inversion: for white noise the group means carry
+the same information (sd sigma / sqrt k) as long as the forward map is linear across a group,
+and the film's responses vary on h, not on h/32 (the tail of fewer than k samples at the end is
+dropped).  The cost then does not grow with the number of samples beyond that."""
+
+
+def _bin(x, zz, xz, step):
+    """(x, zz, xz, k): group means of k consecutive samples (k = 1: unchanged)."""
+    dx = (x[-1] - x[0]) / (x.size - 1)
+    k = int(step // dx)
+    if k < 2 or x.size // k < 8:
+        return x, zz, xz, 1
+    n = (x.size // k) * k
+    return (x[:n].reshape(-1, k).mean(axis=1), zz[:n].reshape(-1, k).mean(axis=1),
+            xz[:n].reshape(-1, k).mean(axis=1), k)
+
+
+def _window_interval(theta, sig, idx, h, known):
+    """The contact prior's window [c - w0, c + w0] [m] and the sd of its two edges from the
+    Laplace covariance of (c, log w0) (NaN where not propagated or at a bound; 0 if known)."""
+    c, w0 = float(theta[0]), math.exp(theta[1])
+    edges = [(c - w0) * h, (c + w0) * h]
+    if known is not None:
+        return [known[0] * h, known[1] * h], [0.0, 0.0]
+    if sig is None or 0 not in idx or 1 not in idx:
+        return edges, [float("nan"), float("nan")]
+    i, j = idx.index(0), idx.index(1)
+    vc, vl, cl = sig[i, i], sig[j, j], sig[i, j]
+    va = vc + w0 * w0 * vl - 2 * w0 * cl
+    vb = vc + w0 * w0 * vl + 2 * w0 * cl
+    return edges, [math.sqrt(max(va, 0.0)) * h, math.sqrt(max(vb, 0.0)) * h]
 
 
 def _check_record(x_m, zz, xz):
@@ -122,7 +197,8 @@ def _check_record(x_m, zz, xz):
 
 def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float = 0.5,
                 view: str = "base", apparatus=None, positive: bool = False, support=None,
-                draws: int = 400, seed: int = 0) -> LineInversion:
+                draws: int = 400, seed: int = 0, prior: str = "contact",
+                hyper: bool = True) -> LineInversion:
     """Interface tractions from a line record (see the module docstring).
 
     x_m : uniform increasing positions [m]; zz_Pa : -sigma_zz(x, 0) (compression > 0) or S_zz;
@@ -136,6 +212,8 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
     h = check_positive("thickness", thickness, "m")
     nu = check_poisson(poisson)
     x, dz, dxz = _check_record(x_m, zz_Pa, xz_Pa)
+    if prior not in ("contact", "envelope"):
+        raise InputError(f"prior must be 'contact' or 'envelope'; got {prior!r}")
     if view not in ("base", "sensor"):
         raise InputError(f"view must be 'base' or 'sensor'; got {view!r}")
     if view == "sensor":
@@ -151,20 +229,30 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
         if not (math.isfinite(a) and math.isfinite(b) and b > a):
             raise InputError(f"support must be an interval (a, b) with b > a [m]; got {support}")
         sup_h = (a / h, b / h)
+    points = x.size
+    x, dz, dxz, nbin = _bin(x, dz, dxz, BIN_STEP_H * h)
     scale = max(float(np.max(np.abs(dz))), float(np.max(np.abs(dxz))))
     xh = x / h
     film = Film(1.0, nu)
     symbols = _symbols(apparatus, h)
-    fwd = LineForward.build(xh, film, symbols, support=sup_h)
-    m = fwd.nodes.size
     zs, xs = dz / scale, dxz / scale
-    ev = _Evidence(fwd, zs, xs, envelope=sup_h is None)
-    theta, logev, free = _optimise(ev, zs, xs, fwd.nodes[1] - fwd.nodes[0])
-    _, (mean, cov, H) = ev.evaluate(theta, full=True)
+    if prior == "contact":
+        fwd, ev, theta, logev, free = fit_contact(xh, film, symbols, zs, xs, sup_h)
+        m = fwd.nodes.size
+        _, (mean, cov, H) = ev.evaluate(theta, full=True)
+        if hyper:
+            cov, sig_theta, hyper_idx = propagate(ev, theta, free, mean, cov)
+        nz, nx = np.exp(theta[10:12])
+    else:
+        fwd = LineForward.build(xh, film, symbols, support=sup_h)
+        m = fwd.nodes.size
+        ev = _Evidence(fwd, zs, xs, envelope=sup_h is None)
+        theta, logev, free = _optimise(ev, zs, xs, fwd.nodes[1] - fwd.nodes[0])
+        _, (mean, cov, H) = ev.evaluate(theta, full=True)
+        nz, nx = np.exp(theta[5:7])
     active = np.zeros(2 * m, bool)
     if positive:
         mean, cov, active = _positive(mean, cov, m)
-    lp, lq, sp, sq, s_out, nz, nx = np.exp(theta[:7])
     # SI: stresses * scale; lengths * h
     w = fwd.weights
     p, q = mean[:m] * scale, mean[m:] * scale
@@ -184,8 +272,13 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
         mu = np.where(resolved, q / p, np.nan)
         mu_sd = np.where(resolved, np.sqrt(np.maximum(sq_**2 - 2 * mu * cpq_d + mu**2 * sp_**2,
                                                       0.0)) / np.abs(p), np.nan)
-    # contact interval from posterior draws
-    interval, interval_sd = _contact_interval(fwd.nodes * h, p, cov_si[:m, :m], sp_, draws, seed)
+    if prior == "contact":
+        # the contact interval is the prior's window, with its Laplace sd
+        interval, interval_sd = _window_interval(theta, sig_theta if hyper else None,
+                                                 hyper_idx if hyper else [], h, sup_h)
+    else:  # contact interval from posterior draws
+        interval, interval_sd = _contact_interval(fwd.nodes * h, p, cov_si[:m, :m], sp_, draws,
+                                                  seed)
     # resolution length: equivalent width of the resolution-matrix row at the peak of p
     res_len = _resolution_length(fwd, symbols, film, min(nz, nx) * scale, x.size,
                                  float(np.max(p)), h)
@@ -205,24 +298,12 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
            "Q_over_P": ratio, "Q_over_P_sigma": math.sqrt(max(vR, 0.0)),
            "contact_interval_m": interval, "contact_interval_sigma_m": interval_sd,
            "resolution_length_m": res_len,
-           "regularisation": {"prior": f"p, q: Matern-{2 * KERNEL_NU:g}/2 Gaussian process inside an "
-                                       f"envelope + exponential-correlation process at its "
-                                       f"edges, zero mean",
-                              "rough_amplitude_p_Pa": float(math.exp(theta[10]) * scale),
-                              "rough_amplitude_q_Pa": float(math.exp(theta[11]) * scale),
-                              "rough_length_m": float(math.exp(theta[12]) * h),
-                              "length_p_m": float(lp * h), "length_q_m": float(lq * h),
-                              "amplitude_p_Pa": float(sp * scale),
-                              "amplitude_q_Pa": float(sq * scale),
-                              "amplitude_outside_Pa": float(s_out * scale) if free[4] else None,
-                              "window_m": ([float((theta[7] - math.exp(theta[8])) * h),
-                                            float((theta[7] + math.exp(theta[8])) * h)]
-                                           if free[7] else None),
-                              "window_edge_m": float(math.exp(theta[9]) * h) if free[9] else None,
-                              "chosen_by": "maximum evidence (marginal likelihood)"},
+           "regularisation": _regularisation(prior, theta, free, scale, h, hyper),
            "log_evidence": float(logev - 2 * x.size * math.log(scale)),
-           "noise_sd_zz_Pa": float(nz * scale), "noise_sd_xz_Pa": float(nx * scale),
-           "view": view, "points": int(x.size), "nodes": int(m), "positive": bool(positive),
+           "noise_sd_zz_Pa": float(nz * scale * math.sqrt(nbin)),
+           "noise_sd_xz_Pa": float(nx * scale * math.sqrt(nbin)),
+           "view": view, "points": int(points), "binned_by": int(nbin), "nodes": int(m),
+           "positive": bool(positive),
            "support_m": None if support is None else [float(s) for s in support],
            "resolved_rule": f"mu_local where p > {RESOLVED_Z:g} sd(p)",
            "thickness_m": h, "poisson": nu, "laws": laws}

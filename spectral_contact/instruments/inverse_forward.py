@@ -83,14 +83,16 @@ class LineForward:
     kinds: np.ndarray = field(default=None)  # 0 hat, +1 right half hat (left end), -1 left half
 
     @classmethod
-    def build(cls, x, film: Film, symbols=None, support=None, step=None):
+    def build(cls, x, film: Film, symbols=None, support=None, step=None, span=None):
         """x [h] uniform; film in units of h (thickness 1); symbols: None (no apparatus) or a
-        pair of functions k [1/h] -> transform (G_zz, G_xz line symbols); support (a, b) [h]."""
+        pair of functions k [1/h] -> transform (G_zz, G_xz line symbols); support (a, b) [h]:
+        nodes on it with half hats at its ends; span (lo, hi) [h]: nodes (hats) on it only,
+        the tractions taken as zero beyond (default: the record +- ``MARGIN_H``)."""
         x = np.asarray(x, dtype=float)
         dx = (x[-1] - x[0]) / (x.size - 1)
         dt = step if step is not None else max(NODE_STEP_H, dx)
         if support is None:
-            lo, hi = x[0] - MARGIN_H, x[-1] + MARGIN_H
+            lo, hi = (x[0] - MARGIN_H, x[-1] + MARGIN_H) if span is None else span
             m = int(math.ceil((hi - lo) / dt)) + 1
             nodes = lo + dt * np.arange(m)
             kinds = np.zeros(m, dtype=int)

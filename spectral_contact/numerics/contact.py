@@ -61,6 +61,15 @@ _EDGE_REACH = 0.15  # nested first set: the fine nodes within this many cells be
 _EDGE_REACH_2D = 0.15  # (the same in 2D, along rows and columns: see nested_guess)
 _EXTRAP_WEIGHT = 0.7  # the cold start's shrinking steps extrapolate the edges (_shrunk_ends)
 _EXTRAP_STEPS = 3  # this many times at most (then plain steps: they cannot cycle through them)
+_RELEASE_REACH = 2  # 2D: a step that sheds tensile nodes also sheds the nodes that the
+# release (and the step's added nodes) would turn tensile, predicted from the grid's own
+# compliance on the (2r+1)^2 nodes around each changed node (_released_tensile; issue 25).
+# Measured (sliding sphere mu 1, the public solve at 2048^2, the finest grid's first step: 34
+# nodes shed, 2 of their neighbours at p = +1.3e-3 p_max turned tensile, -7.5e-4, on the next
+# solve: a third step): predicted within 2e-5 p_max of the next solve's pressures at r = 2, 3
+# and 4 (r = 2: 5 x 5 patches)
+_RELEASE_STEPS = 3  # this many steps at most (then plain steps, as _EXTRAP_STEPS)
+_RELEASE_ROUNDS = 3  # predicted tensile nodes are released in turn this many times at most
 _SET_EDGE = 0.5  # a set's continuum edge, in cells beyond its end node.  Measured (cold, rtol
 # 1e-10, 72 scenes: N 2^10-2^13, loads 3.5-53, mu 0 and 1, the film and the half-space; active-
 # set steps, FFT pairs): plain 179, 2724; weight 0.7 edge 0.5 at most 3 times: 117-120, 1852-1872;
@@ -179,6 +188,7 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
     rt = max(rtol, search_rtol or rtol)  # the inner tolerance of this outer iteration
     extrapolate = _EXTRAP_STEPS if extrapolate and M == 1 and ndim == 1 else 0
     extrapolated = False  # whether a step was extrapolated (and no cycle met since)
+    release = _RELEASE_STEPS if ndim == 2 else 0
     for outer in range(1, max_outer + 1):  # noqa: B007 (the count is reported after the loop)
         idx = active.nonzero()[0]  # (np.flatnonzero of the flat array, without its wrapper)
         own = owner[idx] if M > 1 else None
@@ -300,6 +310,15 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
                         new &= can_touch
         else:
             new = ((active & (p >= 0)) | (~active & (gap < 0))) & can_touch
+            if release and (active & (p < 0)).any():
+                more = _released_tensile(active & ~new, new, p, shape, _release_kernel(op, nfft),
+                                         added=new & ~active, gap=gap)
+                if more is not None:
+                    release -= 1
+                    extrapolated = True  # (a cycle through it: the union, as extrapolated steps)
+                    if not release:
+                        seen.clear()
+                    new &= ~more
         history.append((ni, float(rel_res), its))
         key = new.tobytes()
         akey = active.tobytes()
@@ -405,6 +424,79 @@ def _shrunk_ends(pa: np.ndarray, start: int, min_shed: int = 0):
     if lo > hi or lo > kr or hi < kl:
         return None
     return start + lo, start + hi
+
+
+def _release_kernel(op: FourierOperator, nfft: list) -> np.ndarray:
+    """The grid's compliance between nodes at offsets up to 2 _RELEASE_REACH per axis (the
+    response at node offset (i, j) to a unit nodal pressure: the inverse transform of the
+    symbol), cached on the operator; computing it counts as one FFT pair in ``nfft``."""
+    key = (_RELEASE_REACH, op.grid.shape)
+    cached = getattr(op, "_release_kernel", None)
+    if cached is not None and cached[0] == key:
+        return cached[1]
+    nfft[0] += 1
+    full = get_rfft(op.grid.shape).backward(op.symbol)
+    r2 = 2 * _RELEASE_REACH
+    ix = np.arange(-r2, r2 + 1) % op.grid.shape[0]
+    iy = np.arange(-r2, r2 + 1) % op.grid.shape[1]
+    kern = full[np.ix_(ix, iy)].copy()  # [offset_x + r2, offset_y + r2]
+    op._release_kernel = (key, kern)
+    return kern
+
+
+def _released_tensile(shed: np.ndarray, keep: np.ndarray, p: np.ndarray, shape: tuple,
+                      kern: np.ndarray, added: np.ndarray | None = None,
+                      gap: np.ndarray | None = None):
+    """2D: the nodes of ``keep`` (the next active set, flat) that releasing the tensile nodes
+    ``shed`` (flat, p < 0 there, to p = 0) would turn tensile (None when none would).
+
+    A released node no longer pulls the surface to the indenter; its active neighbours carry
+    the difference (and a node ``added`` with gap < 0 takes load from them as its gap closes).
+    Around each released or added node c, on the (2r+1)^2 nodes within r = _RELEASE_REACH
+    cells, the pressures of the next set's nodes u change by dp with their sinking changed by
+    dw_u = 0 (kept nodes) or -gap_u (added nodes): K_uu dp_u = dw_u + K_us p_s (K the grid's
+    nodal compliance ``kern``, s the released nodes there; the nodes beyond the patch and the
+    indentation held).  A node covered by several patches takes the prediction of the one whose
+    centre is nearest.  Nodes predicted p + dp < 0 are released in turn, or not added
+    (_RELEASE_ROUNDS times at most).  Only the path changes: the next solve checks every node
+    as before."""
+    nx, ny = shape
+    r = _RELEASE_REACH
+    o = np.arange(-r, r + 1)
+    ox, oy = (a.ravel() for a in np.meshgrid(o, o, indexing="ij"))
+    # the patch's compliance matrix: K[a, b] = kern[offset_a - offset_b]
+    K = kern[(ox[:, None] - ox[None, :]) + 2 * r, (oy[:, None] - oy[None, :]) + 2 * r]
+    ring = np.maximum(np.abs(ox), np.abs(oy))
+    eye = np.eye(ox.size)
+    if added is None or not added.any():
+        added, dw_all = np.zeros(p.size, dtype=bool), None
+    else:
+        dw_all = np.where(added, -gap, 0.0)
+    extra = np.zeros(p.size, dtype=bool)
+    found = False
+    for _ in range(_RELEASE_ROUNDS):
+        released = shed | extra
+        kept = keep & ~extra
+        cx, cy = np.divmod(np.flatnonzero(released | added), ny)
+        nodes = ((cx[:, None] + ox) % nx) * ny + (cy[:, None] + oy) % ny  # [centre, offset]
+        k = kept[nodes]
+        src = np.where(released[nodes], p[nodes], 0.0)
+        rhs = src @ K.T
+        if dw_all is not None:
+            rhs += dw_all[nodes]
+        A = np.where(k[:, :, None] & k[:, None, :], K, 0.0) + np.where(k, 0.0, 1.0)[:, :, None] * eye
+        dp = np.linalg.solve(A, np.where(k, rhs, 0.0)[:, :, None])[:, :, 0]
+        # each kept node once, from its nearest centre
+        flat, dist, pred = nodes[k], np.broadcast_to(ring, k.shape)[k], (p[nodes] + dp)[k]
+        order = np.lexsort((dist, flat))
+        first = np.unique(flat[order], return_index=True)[1]
+        pick = flat[order][first]
+        tensile = pick[pred[order][first] < 0]
+        if not tensile.size:
+            break
+        extra[tensile] = True
+        found = True
+    return extra if found else None
 
 
 def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None, p_init=None,

@@ -151,6 +151,30 @@ class Film:
         ~tol/100 (times an amplitude of order 1): the guard a periodic grid needs."""
         return math.log(100.0 / tol) / self.decay_rate
 
+    # --- what the solvers' resolution control asks of a film kind: an elastic film's answers.
+    # A kind whose symbols depend on the sliding (k_x V: ``physics.viscoelastic``) overrides
+    # them; the solvers name no film kind (issue 20: a new kind touches its module, the options
+    # and ``Scene.core_film``).
+    @property
+    def moving(self) -> bool:
+        """Whether the symbols depend on the sliding (k_x V): the solvers then measure the
+        periodic images and the pressure's centroid, and size the grid by ``edge_scales``."""
+        return False
+
+    @property
+    def tail_length(self) -> float:
+        """Length [h] of the relaxation tail behind the contact (0: none)."""
+        return 0.0
+
+    def edge_scales(self) -> list[tuple[float, float]]:
+        """(width [h], weight) of each edge structure the grid must resolve ([]: none)."""
+        return []
+
+    def on_grid(self, lengths) -> Film:
+        """This film on a periodic grid of periods ``lengths`` [h] (a kind whose k_x = 0 modes
+        stand for a band: ``ViscoelasticFilm.kx_cell``); the same film by default."""
+        return self
+
     def _F0_F1(self, kmag):
         """F0, F1 at K = |k| h (the incompressible ones at nu = 1/2, bit for bit)."""
         F0, F1, *_ = self.transfer(kmag * self.thickness)

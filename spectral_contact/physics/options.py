@@ -18,7 +18,8 @@ from dataclasses import dataclass
 
 from ..errors import InputError, named
 
-__all__ = ["Option", "OPTIONS", "option", "default", "validate", "check_applies",
+__all__ = ["Option", "OPTIONS", "option", "default", "validate", "check_applies", "check_needs",
+           "check_prony",
            "INDENTERS_3D", "INDENTERS", "FRICTION_LAWS", "INTERFACE_LAWS", "MODELS", "MU_MAX",
            "TOL_MIN", "scene_options"]
 
@@ -52,7 +53,10 @@ class Option:
     indenters : the surface indenters that take it (None: all the scene's).
     sweep : an option of ``sweep`` (its column and store key).
     json : the JSON key of the results (None: none, or said by the result).
-    cli : on the command line (``solve``); help : more words for --help.
+    cli : on the command line: True (``solve`` and the subcommands that take a scene), "solve"
+        (``solve`` only), False; help : more words for --help.
+    needs : an option that must be given with this one on the command line and in a sweep
+        (``check_needs``; Python keeps the field's default).
     practice : (lo, hi), the range of soft-contact practice: a value outside is accepted with
         a warning, most often being a units slip (``physics.scene.SOFT_CONTACT_RANGES``).
     """
@@ -72,9 +76,10 @@ class Option:
     default_text: str | None = None
     sweep: bool = False
     json: str | None = None
-    cli: bool = True
+    cli: bool | str = True
     help: str = ""
     practice: tuple | None = None
+    needs: str | None = None
 
     def __post_init__(self):
         assert self.scenes in _KINDS, self.scenes
@@ -97,6 +102,8 @@ class Option:
             return "one of " + ", ".join(self.choices)
         u = f" {self.unit}" if self.unit and unit else ""
         lo, hi = self.lo, self.hi
+        if self.kind is tuple:
+            return "pairs E1,tau1[,E2,tau2,...] (E_i [Pa] > 0, tau_i [s] > 0)"
         if lo is None and hi is None and self.kind is int:
             return "an integer"
         if lo is None and hi is None:
@@ -110,6 +117,8 @@ class Option:
     def default_said(self) -> str:
         if self.default_text is not None:
             return self.default_text
+        if self.kind is tuple:
+            return "none" if not self.default else str(self.default)
         if isinstance(self.default, str):
             return self.default
         return "none" if self.default is None else f"{self.default:g}"
@@ -121,10 +130,19 @@ class Option:
         more = f"; {self.help}" if self.help else ""
         return f"{self.what}{u}{rng} (default {self.default_said()}){more}"
 
+    @property
+    def cli_type(self):
+        """The argparse type: the text itself for a structured value (``kind`` tuple: parsed
+        by ``check``, as from Python)."""
+        return str if self.kind is tuple else self.kind
+
     def check(self, value):
         """``value`` validated (floats: a real number, finite, in range, -0 made 0; str: one of
-        the choices); InputError naming the option (``errors.named``) and the accepted values."""
+        the choices; tuple: the Prony terms, ``check_prony``); InputError naming the option
+        (``errors.named``) and the accepted values."""
         n = named(self.name)
+        if self.kind is tuple:
+            return check_prony(value, n)
         if self.kind is str:
             if not isinstance(value, str) or value not in self.choices:
                 raise InputError(f"{n} ({self.what}) must be {self.accepted()}; got {_short(value)}")
@@ -144,6 +162,35 @@ class Option:
                 or (hi is not None and (v > hi or (self.hi_open and v == hi)))):
             raise InputError(f"{n} ({self.what}) must be {self.accepted()}; got {v:g}")
         return v + 0.0  # no -0
+
+
+def check_prony(prony, option: str = "--prony") -> tuple:
+    """Prony terms as a tuple of (E_i [Pa], tau_i [s]) pairs, each finite and > 0: the one parser
+    of the option ``prony`` (a string 'E1,tau1[,E2,tau2,...]' or pairs; () or None: none).
+    InputError (one line naming ``option``) otherwise."""
+    if prony is None:
+        return ()
+    if isinstance(prony, str):
+        parts = [t.strip() for t in prony.split(",")]
+        try:
+            values = [float(t) for t in parts]
+        except ValueError:
+            raise InputError(f"{option} must be numbers E1,tau1[,E2,tau2,...] (E_i [Pa] > 0, "
+                             f"tau_i [s] > 0); got {prony!r:.60}") from None
+        if len(values) % 2 or not values:
+            raise InputError(f"{option} needs pairs E1,tau1[,E2,tau2,...] (an even count of "
+                             f"numbers); got {len(values)} in {prony!r:.60}")
+        prony = list(zip(values[::2], values[1::2]))
+    try:
+        terms = tuple((float(e), float(t)) for e, t in prony)
+    except (TypeError, ValueError):
+        raise InputError(f"{option} must be pairs E1,tau1[,E2,tau2,...] (E_i [Pa] > 0, tau_i "
+                         f"[s] > 0); got {prony!r:.60}") from None
+    for e, t in terms:
+        if not (math.isfinite(e) and e > 0.0 and math.isfinite(t) and t > 0.0):
+            raise InputError(f"{option} terms need E_i > 0 Pa and tau_i > 0 s, finite; got "
+                             f"E = {e:g}, tau = {t:g}")
+    return terms
 
 
 def _short(value, n: int = 40) -> str:
@@ -215,6 +262,15 @@ OPTIONS: tuple[Option, ...] = (
     Option("interface_length", "lambda, the exponential interface law's length", "m", **_POS,
            scenes="line", default_text="none: required by the exponential law",
            json="interface_length_m"),
+    # --- a viscoelastic film (issue 23) ---
+    Option("speed", "V, the sliding speed of a viscoelastic film", "m/s", default=0.0,
+           sweep=True, json="speed_m_per_s", cli="solve",
+           help="signed like --mu (0: the relaxed film); with --prony"),
+    Option("prony", "the Prony terms of a viscoelastic film", kind=tuple, default=(),
+           sweep=True, json="prony_terms", cli="solve", needs="speed",
+           help="moduli E_i and relaxation times tau_i; --young is the relaxed modulus E_inf; "
+                "needs --speed (Python: speed 0 by default); an incompressible film, Amontons "
+                "friction, a rigid interface; a sweep takes several series separated by ';'"),
     # --- the solve ---
     Option("model", "the model", kind=str, default="exact", choices=MODELS, scenes="solve",
            sweep=True, json="model",
@@ -267,6 +323,16 @@ def validate(obj, scene: str) -> dict:
         v = getattr(obj, o.name)
         out[o.name] = None if v is None and o.default is None else o.check(v)
     return out
+
+
+def check_needs(given) -> None:
+    """Refuse an option given without the option it needs (``Option.needs``: --prony without
+    --speed), on the command line and in a sweep: ``given`` the names the caller set."""
+    for name in given:
+        need = _BY_NAME[name].needs if name in _BY_NAME else None
+        if need is not None and need not in given:
+            o = _BY_NAME[need]
+            raise InputError(f"{named(name)} needs {named(need)} ({o.what} [{o.unit}])")
 
 
 def check_applies(given, indenter: str) -> None:

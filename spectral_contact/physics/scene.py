@@ -24,7 +24,7 @@ from . import options as _options
 from .film import Film
 from .friction import FrictionLaw
 from .indenters import Cylinder, LineHeightFunction, user_heights
-from .options import INDENTERS_3D, MU_MAX, TOL_MIN, default
+from .options import INDENTERS_3D, MU_MAX, TOL_MIN, check_prony, default  # noqa: F401
 
 __all__ = ["Scene", "Scene3D", "INDENTERS_3D", "PAPER_SCENE", "check_finite", "check_positive",
            "check_tol", "check_poisson", "check_prony", "MU_MAX", "A_OVER_H_MAX", "TOL_MIN"]
@@ -347,8 +347,18 @@ class Scene:
         return LineHeightFunction(0.0, self.P, f, self.extent / h)
 
     def core_film(self) -> Film:
-        """The film in the core's units (thickness 1, stresses in G): the scene's kind."""
-        return Film(poisson=self.poisson) if self.film is None else self.film.core()
+        """The film the solvers use, in the core's units (thickness 1, stresses in G, speeds in
+        h/s): the scene's kind -- a user's film (``film=``), a viscoelastic film in sliding
+        (``prony`` and ``speed`` != 0: ``ViscoelasticFilm``; at V = 0 the relaxed film, bit for
+        bit the elastic solve with E = E_inf), else ``Film``.  The one place that builds it."""
+        if self.film is not None:
+            return self.film.core()
+        if self.prony and self.speed != 0.0:
+            from .viscoelastic import ViscoelasticFilm
+
+            return ViscoelasticFilm(poisson=self.poisson, relaxed_young=self.young,
+                                    prony=self.prony, speed=self.speed / self.thickness)
+        return Film(poisson=self.poisson)
 
     def custom(self) -> str | None:
         """What of this scene only the FFT method solves (a user's indenter or film kind), in
@@ -403,41 +413,14 @@ def _check_law_and_film(scene) -> None:
                          f"not settle on a compressible film; got poisson {scene.poisson:g}")
 
 
-def check_prony(prony, option: str = "--prony") -> tuple:
-    """Prony terms as a tuple of (E_i [Pa], tau_i [s]) pairs, each finite and > 0 (a string
-    'E1,tau1[,E2,tau2,...]' is parsed).  InputError (one line naming ``option``) otherwise."""
-    if isinstance(prony, str):
-        parts = [t.strip() for t in prony.split(",")]
-        try:
-            values = [float(t) for t in parts]
-        except ValueError:
-            raise InputError(f"{option} must be numbers E1,tau1[,E2,tau2,...] (E_i [Pa] > 0, "
-                             f"tau_i [s] > 0); got {prony!r:.60}") from None
-        if len(values) % 2 or not values:
-            raise InputError(f"{option} needs pairs E1,tau1[,E2,tau2,...] (an even count of "
-                             f"numbers); got {len(values)} in {prony!r:.60}")
-        prony = list(zip(values[::2], values[1::2]))
-    try:
-        terms = tuple((float(e), float(t)) for e, t in prony)
-    except (TypeError, ValueError):
-        raise InputError(f"{option} must be pairs E1,tau1[,E2,tau2,...] (E_i [Pa] > 0, tau_i "
-                         f"[s] > 0); got {prony!r:.60}") from None
-    for e, t in terms:
-        if not (math.isfinite(e) and e > 0.0 and math.isfinite(t) and t > 0.0):
-            raise InputError(f"{option} terms need E_i > 0 Pa and tau_i > 0 s, finite; got "
-                             f"E = {e:g}, tau = {t:g}")
-    return terms
-
-
 def _check_viscoelastic(scene):
     """speed and prony (issue 23): validated, prony as a tuple of pairs; one-line InputError
     naming the command-line options."""
-    v = check_finite("--speed (V)", scene.speed, "any finite real [m/s]")
-    object.__setattr__(scene, "speed", v + 0.0)
+    v = _options.option("speed").check(scene.speed)  # the table's parsers (physics.options)
+    object.__setattr__(scene, "speed", v)
+    object.__setattr__(scene, "prony", _options.option("prony").check(scene.prony))
     if not scene.prony:
-        object.__setattr__(scene, "prony", ())
         return
-    object.__setattr__(scene, "prony", check_prony(scene.prony))
     if check_poisson(scene.poisson) != 0.5:
         raise InputError(f"--prony needs --poisson 0.5 (the viscoelastic film is incompressible: "
                          f"with an elastic bulk modulus its symbol is not a scaling of the "

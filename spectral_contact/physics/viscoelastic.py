@@ -49,13 +49,13 @@ moduli in any one unit (``relaxed_young`` and the Prony moduli together).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..errors import InputError
 from .film import Film
-from .scene import check_prony
+from .options import check_prony
 
 __all__ = ["ViscoelasticFilm", "film_of", "parse_prony", "check_prony"]
 
@@ -182,6 +182,10 @@ class ViscoelasticFilm(Film):
         """Whether the symbols differ from the elastic film's (V != 0 and terms present)."""
         return self.speed != 0.0 and bool(self.prony)
 
+    def on_grid(self, lengths) -> ViscoelasticFilm:
+        """The film on a periodic grid: its k_x = 0 modes averaged over |k_x| < pi / L_x."""
+        return replace(self, kx_cell=math.pi / lengths[0])
+
     def partial_fractions(self) -> tuple[float, list[tuple[float, float]]]:
         """R(z) = G_inf/G*(z/i) = r + sum_j c_j / (1 + z tau_r,j): (r, [(c_j, tau_r,j)]), r =
         E_inf/E_0, c_j = tau_r,j / (d/dz G*/G_inf at z = -1/tau_r,j), sum c_j = 1 - r."""
@@ -304,12 +308,6 @@ def _atan_ratio(t: float) -> float:
 
 
 def film_of(scene) -> Film:
-    """The film of a ``Scene``/``Scene3D`` in the core's units (thickness 1, speed in h/s):
-    ``Film`` when elastic or at rest (V = 0: the relaxed film, bit for bit the elastic solve
-    with E = E_inf), else ``ViscoelasticFilm``."""
-    prony = getattr(scene, "prony", ())
-    speed = getattr(scene, "speed", 0.0)
-    if not (prony and speed != 0.0):
-        return scene.core_film()
-    return ViscoelasticFilm(poisson=scene.poisson, relaxed_young=scene.young, prony=prony,
-                            speed=speed / scene.thickness)
+    """The film of a ``Scene``/``Scene3D`` in the core's units: ``scene.core_film()`` (kept for
+    callers of the earlier name)."""
+    return scene.core_film()

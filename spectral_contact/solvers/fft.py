@@ -42,7 +42,6 @@ from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.interface import solve_exponential_contact
 from ..physics.friction import ShearLaw
 from ..physics.scene import Scene, Scene3D, check_positive
-from ..physics.viscoelastic import ViscoelasticFilm, film_of
 from ..result import ContactResult
 from .base import Method, check_grid_points, register
 from .fft3d import solve_fft3d
@@ -295,8 +294,8 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     plans0 = planning_time()
     P = scene.P
     mu_contact = scene.mu if model == "exact" else 0.0
-    film = film_of(scene)  # lengths in h: thickness 1 (Film; ViscoelasticFilm when sliding)
-    visco = isinstance(film, ViscoelasticFilm)
+    film = scene.core_film()  # lengths in h: thickness 1 (the scene's film kind)
+    visco = film.moving  # a film whose symbols depend on the sliding (physics.film)
     if visco and grid_points is None and domain_length is None:
         # slow sliding: the relaxed elastic solve + the first-order correction (visco_slow)
         slow = slow_sliding(scene, film, model, tol, solve_fft)

@@ -50,7 +50,6 @@ from ..physics.film import Film
 from ..physics.friction import ShearLaw
 from ..physics.scene import Scene3D, check_positive
 from ..physics.transfer import F2, compressible_tangential_function, tanh_over, transfer_functions
-from ..physics.viscoelastic import ViscoelasticFilm, film_of
 from ..result import ContactResult3D
 from .base import check_grid_points
 
@@ -172,8 +171,8 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     grid_points, domain_length = _check_fixed(grid_points, domain_length)
     # issue 14: any nu (nu = 1/2: the incompressible path); issue 23: a viscoelastic film in
     # steady sliding (its relaxation tail lengthens the period along x only)
-    film = film_of(scene)
-    visco = isinstance(film, ViscoelasticFilm)
+    film = scene.core_film()
+    visco = film.moving  # a film whose symbols depend on the sliding (physics.film)
     P = scene.P
     mu_contact = scene.mu if model == "exact" else 0.0
     ind = scene.indenter_object()
@@ -194,13 +193,12 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     rtol = max(1e-10, 1e-4 * accept)
 
     def contact(grid, p_init=None, locator=False):
-        if visco:  # the k_x = 0 modes: R averaged over their band (ViscoelasticFilm.kx_cell)
+        if visco:  # the k_x = 0 modes: R averaged over their band (Film.on_grid)
             if p_init is None:  # the indenter's own guess, not the nested start: its coarse
                 # grids on the tail's long period hold the contact on a node or two (measured:
                 # the sphere at V = 10 m/s, tau 10 ms failed on the load residual, 5 %)
                 p_init = np.broadcast_to(ind.initial_pressure(grid), grid.shape).copy()
-            return _contact(grid, dataclasses.replace(film, kx_cell=math.pi / grid.lengths[0]),
-                            p_init, locator)
+            return _contact(grid, film.on_grid(grid.lengths), p_init, locator)
         return _contact(grid, film, p_init, locator)
 
     def _contact(grid, film, p_init=None, locator=False):
@@ -248,17 +246,9 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
         # a small contact (issue 24): cells sized from the contact on an open box
         return _solve_open(scene, model, tol, film, ind, mu_contact, c, accept, margin,
                            progress, t0, plans0, counters)
-    _check_size(n0, "locating the contact")
-    if progress:
-        progress(f"locating the contact on a {n0[0]} x {n0[1]} grid")
-    sol = count(contact(Grid.centered(n0, L0), locator=True))
-    q = _measure(sol, ind)
-
-    # 2. the periods: the contact plus the decay margin, centred on the contact
-    width_x = q["x_max"] - q["x_min"]
-    width_y = q["y_max"] - q["y_min"]
-    if domain_length is not None:
-        # a user period must hold the contact plus the decay of its images to tol/2
+    def check_period(q):
+        """A user period must hold the contact plus the decay of its images to tol/2."""
+        width_x, width_y = q["x_max"] - q["x_min"], q["y_max"] - q["y_min"]
         free = math.log(2.0 / tol) / film.decay_rate
         need = (width_x + free, width_y + free)
         if visco:  # and along x the relaxation tail behind the contact (issue 23)
@@ -271,10 +261,28 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
                 f"({width_x:.3g} x {width_y:.3g} h) plus {free:.3g} h for its images to decay "
                 f"below tol/2{' (along x also the relaxation tail behind it)' if visco else ''}: "
                 f"at least ({need[0]:.4g}, {need[1]:.4g}) h, or leave it automatic")
-    guard = 4.0 * max(sol.grid.spacing)
-    margin_y = Film.domain_margin(film, tol) if visco else margin  # the tail is along x
-    L = domain_length or (width_x + margin + guard, width_y + margin_y + guard)
-    center = (0.5 * (q["x_max"] + q["x_min"]), 0.0) if domain_length is None else (0.0, 0.0)
+
+    # a user grid on a user period (issue 25): no locator, whose contact would only be checked
+    # against the period (~4-6 FFT-pair times of 512^2); the first level's contact is
+    fixed_box = bool(grid_points) and domain_length is not None
+    if fixed_box:
+        L, center = domain_length, (0.0, 0.0)
+    else:
+        _check_size(n0, "locating the contact")
+        if progress:
+            progress(f"locating the contact on a {n0[0]} x {n0[1]} grid")
+        sol = count(contact(Grid.centered(n0, L0), locator=True))
+        q = _measure(sol, ind)
+
+        # 2. the periods: the contact plus the decay margin, centred on the contact
+        width_x = q["x_max"] - q["x_min"]
+        width_y = q["y_max"] - q["y_min"]
+        if domain_length is not None:
+            check_period(q)
+        guard = 4.0 * max(sol.grid.spacing)
+        margin_y = Film.domain_margin(film, tol) if visco else margin  # the tail is along x
+        L = domain_length or (width_x + margin + guard, width_y + margin_y + guard)
+        center = (0.5 * (q["x_max"] + q["x_min"]), 0.0) if domain_length is None else (0.0, 0.0)
     if grid_points:
         levels = [tuple(n // 2 for n in grid_points), grid_points]
     else:
@@ -315,6 +323,8 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
             p_init = None  # the indenter's own guess
         cur = count(contact(g, p_init=p_init))
         qcur = _measure(cur, ind)
+        if fixed_box and i == 0:
+            check_period(qcur)
         history.append((shape, qcur))
         if qprev is not None:
             est = _difference(qcur, qprev, ind.singular_peak)
@@ -395,21 +405,13 @@ def _solve_info(history, sol, margin, q, extent_est) -> dict:
     }
 
 _MULTIPLIERS: dict = {}  # (film, shape, lengths, mu) -> the output fields' multipliers
-_MULTIPLIER_POINTS = 2**21  # kept only for grids up to this many points (6 complex arrays)
+_MULTIPLIER_BYTES = 2**28  # the cache's budget: 256 MB (2048^2 with mu given: 6 complex
+# arrays of 2048 x 1025, 202 MB, the only entry; 1024^2: 50 MB each).  Measured: their
+# evaluation at 2048^2 cost ~12 FFT-pair times of the grid, each solve, when not kept
 
 
-def _multipliers(film: Film, grid, mu):
-    """Per-mode multipliers of the output fields (``_output_fields``): with t^ = mu p^
-    (``mu`` given) six arrays M with field^ = M p^; otherwise the pairs (M_p, M_t) with
-    field^ = M_p p^ + M_t t^.  Averaged over the two aliases on the Nyquist plane of the
-    first axis (``Grid.alias_average``; the last axis's is the real transform's).  Cached per
-    film, grid shape, periods and mu for the next solve on that grid (issue 25: a sweep over
-    forces or friction on one grid; their evaluation cost ~20 FFT pairs at 512^2)."""
-    key = (film, grid.shape, grid.lengths, mu)
-    out = _MULTIPLIERS.get(key)
-    if out is not None:
-        return out
-    K = grid.kmag
+def _radial_coefficients(film: Film, K):
+    """The output fields' coefficients that depend on |k| only (``_multipliers``)."""
     Kh = K * film.thickness
     if film.incompressible:  # one evaluation of the five transfer functions
         F0, F1, A, B, C = transfer_functions(Kh)
@@ -428,6 +430,39 @@ def _multipliers(film: Film, grid, mu):
     d0 = F0 * inv2k
     if not film.incompressible:
         d0 = d0 + np.where(pos, 0.0, film.uniform_compliance)
+    return A, iB, iBp, C, T, cL, cT, iF1, d0
+
+
+def _even_in_kx(fn, K):
+    """fn(K) (a tuple of arrays, elementwise in K) on the half spectrum's |k| (shape kshape, the
+    first axis in fftfreq order), evaluated on the rows k_x >= 0 only and mirrored: |k| of row
+    n - i is |k| of row i bit for bit (fftfreq's values are exact negatives), so the result is
+    fn(K)'s, at half the cost (issue 25: the transfer functions were ~1/3 of the outputs' time
+    at 2048^2)."""
+    n = K.shape[0]
+    m = n // 2 + 1
+    if K.ndim != 2 or n < 4:
+        return fn(K)
+    out = []
+    for h in fn(K[:m]):
+        h = np.broadcast_to(h, (m,) + K.shape[1:])
+        out.append(np.concatenate([h, h[1:n - m + 1][::-1]]))
+    return tuple(out)
+
+
+def _multipliers(film: Film, grid, mu):
+    """Per-mode multipliers of the output fields (``_output_fields``): with t^ = mu p^
+    (``mu`` given) six arrays M with field^ = M p^; otherwise the pairs (M_p, M_t) with
+    field^ = M_p p^ + M_t t^.  Averaged over the two aliases on the Nyquist plane of the
+    first axis (``Grid.alias_average``; the last axis's is the real transform's).  Cached per
+    film, grid shape, periods and mu for the next solve on that grid (issue 25: a sweep over
+    forces or friction on one grid; their evaluation cost ~20 FFT pairs at 512^2)."""
+    key = (film, grid.shape, grid.lengths, mu)
+    out = _MULTIPLIERS.get(key)
+    if out is not None:
+        return out
+    A, iB, iBp, C, T, cL, cT, iF1, d0 = _even_in_kx(lambda K: _radial_coefficients(film, K),
+                                                    grid.kmag)
 
     def pairs(nx, ny, sl):
         """(M_p, M_t) of szz, sxz, syz, ux, uy, delta on the modes ``sl``."""
@@ -453,9 +488,12 @@ def _multipliers(film: Film, grid, mu):
         out = tuple(mp + mu * mt for mp, mt in ms)
     else:
         out = tuple(tuple(m) for m in ms)
-    if grid.size <= _MULTIPLIER_POINTS:
-        if len(_MULTIPLIERS) >= 4:
-            _MULTIPLIERS.clear()
+    size = sum(m.nbytes for m in (out if mu is not None else sum(out, ())))
+    if size <= _MULTIPLIER_BYTES:
+        while _MULTIPLIERS and size + sum(m.nbytes for v in _MULTIPLIERS.values() for m in
+                                          (v if isinstance(v[0], np.ndarray) else sum(v, ()))
+                                          ) > _MULTIPLIER_BYTES:
+            del _MULTIPLIERS[next(iter(_MULTIPLIERS))]  # the oldest first
         _MULTIPLIERS[key] = out
     return out
 

@@ -6,9 +6,11 @@ or frictionless), then Q = mu P k/N along x (with ``cycle``: down to -amplitude 
 history kept.  The grid has the spacing of ``solve``'s 3D grid for the same scene and tol, on
 periods holding the normal and the sliding contacts plus the kernels' decay margin; the loading
 is run at N/2 and N points per axis and the per-step estimate is 1.5 x their difference in the
-contact radius sqrt(A/pi), the pressure centroid (over the radius), the indentation, the peak
-pressure and the tangential displacement (over its largest value), plus the periodic images'
-bound; one doubling if it exceeds tol (then, or with a fixed grid, ``tolerance_met`` says).
+contact radius sqrt(A/pi) (A the polygon through the sub-grid edges, ``measure_contact_2d``, as
+``solve``; counting the contact's cells made it 5-10 x larger and the default tol went to 512^2),
+the pressure centroid (over the radius), the indentation, the peak pressure and the tangential
+displacement (over its largest value), plus the periodic images' bound; one doubling if it
+exceeds tol (then, or with a fixed grid, ``tolerance_met`` says).
 The stick zone's radius sqrt(area/pi) has its own estimate (``stick_error_estimate``).
 
 Default tol 1e-2 (``DEFAULT_TOL_3D``): each level costs N^2 points per step and the loading
@@ -25,6 +27,7 @@ from ..errors import ConvergenceError, InputError
 from ..numerics.contact import solve_contact
 from ..numerics.fft import get_rfft
 from ..numerics.grid import Grid, pow2_at_least
+from ..numerics.measure2d import measure_contact_2d
 from ..numerics.partial_slip2d import PartialSlipOperator2D, SlipState2D, solve_slip_step_2d
 from ..physics.film import Film
 from ..physics.indenters import Paraboloid
@@ -58,6 +61,38 @@ def check_onset_scene3d(scene) -> Scene3D:
     return scene
 
 
+def _unit(v):
+    n = np.hypot(v[0], v[1])
+    return v / np.where(n > 0, n, 1.0), n
+
+
+def _predict(s0: SlipState2D, s1: SlipState2D, f: np.ndarray, mu: float):
+    """First sets and fields of the next step, extrapolated linearly from the last two (equal
+    load steps along one path): the stick set where the margin |mu| p - |q| stays positive,
+    the contact where the pressure does (and free nodes whose gap closes), new slip nodes
+    along the last step's slip (or the shear), p, q, d and delta continued.  Only the number
+    of active-set iterations depends on it (the solver checks every condition); None when
+    nothing would stick."""
+    m0 = mu * s0.p - np.hypot(*s0.q)
+    m1 = mu * s1.p - np.hypot(*s1.q)
+    contact = np.where(s1.contact, 2.0 * s1.p - s0.p > 0.0,
+                       2.0 * (f - s1.d + s1.w) - (f - s0.d + s0.w) < 0.0)
+    stick = s1.stick & contact & (2.0 * m1 - m0 > 0.0)
+    if not stick.any():
+        return None
+    slipping = contact & ~stick
+    ds = (s1.delta - s0.delta)[:, None] - (s1.u - s0.u)
+    dsu, dsn = _unit(ds)
+    qu, qn = _unit(s1.q)
+    t = np.where(qn > 0, qu, np.where(dsn > 0, dsu, 0.0))
+    g = SlipState2D(p=np.where(contact, np.maximum(2.0 * s1.p - s0.p, 1e-12 * s1.p.max()), 0.0),
+                    q=np.where(contact, s1.q, 0.0), w=s1.w, u=s1.u, d=2.0 * s1.d - s0.d,
+                    delta=2.0 * s1.delta - s0.delta, contact=contact, stick=stick,
+                    sigma=s1.sigma, P=s1.P, Q=s1.Q)
+    g.t = np.where(slipping, t, 0.0)
+    return g
+
+
 class _Run3D:
     def __init__(self, grid, film, ind, P, mu, path, loading, loading_steps, accept,
                  progress=None):
@@ -66,6 +101,9 @@ class _Run3D:
         f = np.asarray(ind.height(grid), dtype=float).ravel()
         n = grid.size
         amu = abs(mu)
+        # the inner (GMRES) solves to 1e-2 of the accepted residual: the linear system's
+        # relative residual bounds the gap, stick and load rows' (max-norm) residuals
+        rtol = max(1e-10, 1e-2 * accept)
         counters = {"fft_pairs": 0, "krylov_iterations": 0, "iterations": 0}
 
         def count(s):
@@ -84,9 +122,13 @@ class _Run3D:
             guess.stick = guess.contact.copy()
             guess.p = s0.pressure.ravel().copy()
             guess.d = float(s0.indentations[0])
+            before = None
             for k in range(1, loading_steps + 1):
-                state = solve_slip_step_2d(op, f, state, P * k / loading_steps, (0.0, 0.0), amu,
-                                           guess=guess if k == 1 else None, accept=accept)
+                if k > 1:
+                    guess = _predict(before, state, f, amu) if k > 2 else None
+                new = solve_slip_step_2d(op, f, state, P * k / loading_steps, (0.0, 0.0), amu,
+                                         guess=guess, accept=accept, rtol=rtol)
+                before, state = state, new
                 count(state)
         else:
             p = s0.pressure.ravel().copy()
@@ -100,29 +142,33 @@ class _Run3D:
         self.states = []
         sgn = 1.0 if mu > 0 else -1.0
         for k, r in enumerate(path, start=1):
+            guess = None
+            if k > 2 and (path[k - 1] - path[k - 2]) * (path[k - 2] - path[k - 3]) > 0:
+                guess = _predict(self.states[-2], state, f, amu)
             state = solve_slip_step_2d(op, f, state, P, (sgn * amu * P * r, 0.0), amu,
-                                       accept=accept)
+                                       accept=accept, rtol=rtol, guess=guess)
             count(state)
             self.states.append(state)
             if progress:
                 progress(k, len(path), grid.shape[0])
         self.counters = counters
-        self.measures = [self.measure(s) for s in [self.loaded] + self.states]
+        self.measures = [self.measure(s, f) for s in [self.loaded] + self.states]
 
-    def measure(self, s):
+    def measure(self, s, f):
+        """The contact's area (the polygon through the sub-grid edges, ``measure_contact_2d``,
+        as ``solve`` measures it), pressure centroid and peak; the stick zone's area (its
+        nodes' cells) and x extent (node positions); d, delta."""
         g = self.grid
-        x, y = (np.broadcast_to(c, g.shape).ravel() for c in g.coordinates())
-        cell = g.cell
-        area = s.contact.sum() * cell
-        stick_area = s.stick.sum() * cell
-        w = s.p.sum()
+        x = np.broadcast_to(g.coordinates()[0], g.shape).ravel()
+        m = measure_contact_2d(g, s.p.reshape(g.shape), (f - s.d + s.w).reshape(g.shape),
+                               s.contact.reshape(g.shape))
+        stick_area = s.stick.sum() * g.cell
         xs = x[s.stick]
-        return {"area": area, "radius": math.sqrt(area / math.pi),
+        return {"area": m["area"], "radius": math.sqrt(m["area"] / math.pi),
                 "stick_area": stick_area, "stick_radius": math.sqrt(stick_area / math.pi),
                 "stick_lo": float(xs.min()) if xs.size else math.nan,
                 "stick_hi": float(xs.max()) if xs.size else math.nan,
-                "xc": float((x * s.p).sum() / w) if w > 0 else 0.0,
-                "d": float(s.d), "pmax": float(s.p.max()), "delta": float(s.delta[0]),
+                "xc": m["xc"], "d": float(s.d), "pmax": m["pmax"], "delta": float(s.delta[0]),
                 "delta_y": float(s.delta[1]), "stick_nodes": int(s.stick.sum())}
 
 

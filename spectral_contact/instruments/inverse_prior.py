@@ -1,0 +1,427 @@
+"""The line inverse's contact prior (issue 21): tractions shaped as a contact's are, with every
+hyperparameter chosen by the evidence, and the propagation of the hyperparameters' own
+uncertainty into the posterior (Laplace over the log-hyperparameters).
+
+Prior (nodes t_j, lengths in h).  A window of centre c and half-width w0 (hyperparameters),
+u = (t - c)/w0, z = 1 - u^2, carries
+
+    p = W g_p + n_p,
+    q = mu0 p + W g_r + I tau + n_q,
+
+with W = diag(w), w = sqrt(z+) the square-root profile of a contact's edges (a smooth indenter's
+pressure falls to zero as the square root of the distance to the edge, for the exact model as
+for Hertz), I = (1 on the window) (a shear strength tau0 makes q step at the edges), g_p, g_r
+independent zero-mean Matern-5/2 processes (amplitudes s_p, s_r, lengths l_p, l_r: smooth
+inside the contact), tau ~ N(0, s_t^2) one constant, and n_p, n_q an independent white nugget of
+sd s_out on each node (whatever the shapes above do not hold, inside or outside the window).
+q is correlated with p through mu0 (Amontons: g_r = tau = 0); its departures are a smooth
+multiple of the edge profile (a local mu varying across the contact) and a constant that need
+not vanish at the edges (q = tau0 + alpha p: mu0 = alpha, tau = tau0).  (A smooth tau(x) was
+tried: the evidence then prefers it to W g_r for a varying mu, and its steps at the edges cost
+4-6 % of L2 error; one constant does not mimic a varying mu.)  tau's prior sd is s_p, not a
+hyperparameter of its own: a free s_t went to zero whenever the data could not show the step
+(sensor view), where the Laplace width is not defined, and the posterior then excluded a shear
+strength the data allowed (2-sd coverage 0.0-0.4, Q biased); one coefficient with a broad prior
+costs little evidence and carries its uncertainty in the posterior itself.  For the same reason
+the varying-mu part's amplitude s_r is s_p (``TIE_MU_PART``; a local mu departing from mu0 by
+~1 is allowed a priori): a free s_r went to zero on the sensor view of a varying mu, leaving p
+biased (2-sd coverage of p 0.64 -> 0.84 tied, L2 of q 12 % -> 5 %).
+``z+`` is z rounded at the scale of a quarter node
+step (softplus), so that the evidence is a smooth function of c and w0.  With a known support
+(a, b) the window is (a, b) exactly (w = sqrt(max(z, 0)), I = 1) and c, w0 are not free.
+
+The nine hyperparameters (c, log w0, log s_p, log l_p, mu0, log l_r, log s_out, log sigma_zz,
+log sigma_xz; the last two the white noise of the two data components; theta[5], theta[7] and
+theta[8] are placeholders, not used while tied) maximise the evidence (closed form,
+Gaussian), with its analytic gradient.
+
+Hyperparameter uncertainty.  ``propagate`` takes the Hessian of the log-evidence over the free
+log-hyperparameters (central differences of the analytic gradient), its inverse Sigma_theta
+(the Laplace approximation to their posterior under a flat prior), the Jacobian J of the
+posterior mean of the tractions with respect to them (central differences) and returns the
+covariance S + J Sigma_theta J^T: the first-order total variance of the tractions once the
+hyperparameters are integrated over rather than fixed at their maximum.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["ContactPrior", "optimise_contact", "propagate", "PRIOR_NAMES"]
+
+PRIOR_NAMES = ("centre", "log_half_width", "log_s_p", "log_l_p", "mu0", "log_s_r", "log_l_r",
+               "log_s_t", "log_l_t", "log_s_out", "log_noise_zz", "log_noise_xz")
+_N = len(PRIOR_NAMES)
+NOISE_FLOOR = 1e-3
+"""Smallest noise sd, relative to the data's peak, times sqrt(node step / sample step) when the
+samples are finer than the nodes.  On a clean record the forward map's own error (hats on a
+square-root edge: ~1e-3 of the peak, correlated over a node step) is the noise; treated as
+white noise on samples finer than that, it would count as more information than it is (by the
+ratio of the steps), and the evidence then buys a rough, large prior that fits the
+discretisation (measured: L2 130 % on the solver's 8192-sample clean record at a floor of 1e-3,
+1-2 % with the factor)."""
+TIE_MU_PART = True
+"""The varying-mu part's prior sd is s_p (module docstring)."""
+_ROUND = 0.25
+"""The window's edges are rounded over this fraction of a node step."""
+
+
+def _matern52(t, length):
+    """Matern-5/2 correlation on nodes t and its derivative with respect to log(length)."""
+    r = math.sqrt(5.0) * np.abs(t[:, None] - t[None, :]) / length
+    e = np.exp(-r)
+    return (1.0 + r + r * r / 3.0) * e, (r * r * (1.0 + r) / 3.0) * e
+
+
+def _logistic(u):
+    return 0.5 * (1.0 + np.tanh(0.5 * u))
+
+
+def _softplus(z, eps):
+    return eps * np.logaddexp(0.0, z / eps)
+
+
+def _cho(L, y):
+    from scipy.linalg import solve_triangular
+
+    return solve_triangular(L.T, solve_triangular(L, y, lower=True), lower=False)
+
+
+class ContactPrior:
+    """Sufficient statistics of a record for the contact prior; log-evidence, gradient and the
+    posterior (see the module docstring).  ``fwd``: ``LineForward``; dz, dx: the data (scaled);
+    ``known``: the window is the node span (a known support)."""
+
+    def __init__(self, fwd, dz, dx, known=False):
+        self.fwd = fwd
+        Mz = np.hstack([fwd.Mzp, fwd.Mzq])
+        Mx = np.hstack([fwd.Mxp, fwd.Mxq])
+        self.Gz, self.Gx = Mz.T @ Mz, Mx.T @ Mx
+        self.bz, self.bx = Mz.T @ dz, Mx.T @ dx
+        self.ez, self.ex = float(dz @ dz), float(dx @ dx)
+        self.n = dz.size
+        self.t = fwd.nodes
+        self.m = self.t.size
+        self.dt = float(self.t[1] - self.t[0])
+        self.known = known
+        self._cache = {}
+        self._ones = np.ones((self.m, self.m))
+        self._zeros = np.zeros((self.m, self.m))
+
+    # -- prior covariance and its derivatives -------------------------------------------------
+    def window(self, th):
+        """(w, dw/dc, dw/dlog w0, I, dI/dc, dI/dlog w0) on the nodes."""
+        t = self.t
+        c, w0 = th[0], math.exp(th[1])
+        u = (t - c) / w0
+        z = 1.0 - u * u
+        dz_dc, dz_dl = 2.0 * u / w0, 2.0 * u * u
+        if self.known:
+            w = np.sqrt(np.clip(z, 0.0, None))
+            one = np.ones_like(t)
+            zero = np.zeros_like(t)
+            return w, zero, zero, one, zero, zero
+        eps = _ROUND * self.dt / w0
+        sp = _softplus(z, eps) + 1e-30
+        w = np.sqrt(sp)
+        # d sp / d theta = sigma(z/eps) dz/dtheta + (d eps/dtheta)(sp/eps - z sigma / eps);
+        # eps depends on w0 only (d eps / d log w0 = -eps)
+        sig = _logistic(z / eps)
+        dsp_dl = sig * dz_dl - (sp - z * sig)
+        dw_dc = sig * dz_dc / (2.0 * w)
+        dw_dl = dsp_dl / (2.0 * w)
+        ind = sig
+        dind = sig * (1.0 - sig) / eps
+        di_dc = dind * dz_dc
+        di_dl = dind * (dz_dl + z)  # d(z/eps)/dlog w0 = dz_dl/eps + z/eps
+        return w, dw_dc, dw_dl, ind, di_dc, di_dl
+
+    def _corr(self, length):
+        key = round(length, 14)
+        c = self._cache.get(key)
+        if c is None:
+            if len(self._cache) > 64:
+                self._cache.clear()
+            c = self._cache[key] = _matern52(self.t, length)
+        return c
+
+    def covariance(self, th):
+        """Prior covariance blocks: Kp (of p), Kr (of q - mu0 p), and the pieces for the
+        gradient."""
+        m = self.m
+        w, dwc, dwl, ind, dic, dil = self.window(th)
+        sp2, so2 = (math.exp(2 * th[k]) for k in (2, 9))
+        s_r2 = sp2 if TIE_MU_PART else math.exp(2 * th[5])
+        st2 = sp2  # the step's prior sd is the pressure's amplitude (theta[7] not used)
+        Cp, dCp = self._corr(math.exp(th[3]))
+        Cr, dCr = self._corr(math.exp(th[6]))
+        Ct, dCt = self._ones, self._zeros  # the step part is one constant (l_t not used)
+        eye = np.eye(m)
+        Ap = w[:, None] * Cp * w[None, :]
+        Ar = w[:, None] * Cr * w[None, :]
+        At = ind[:, None] * Ct * ind[None, :]
+        Kp = sp2 * Ap + so2 * eye
+        Kr = s_r2 * Ar + st2 * At + so2 * eye
+        return Kp, Kr, dict(w=w, dwc=dwc, dwl=dwl, ind=ind, dic=dic, dil=dil, sp2=sp2, sr2=s_r2,
+                            st2=st2, so2=so2, Cp=Cp, dCp=dCp, Cr=Cr, dCr=dCr, Ct=Ct, dCt=dCt,
+                            Ap=Ap, Ar=Ar, At=At)
+
+    # -- evidence -----------------------------------------------------------------------------
+    def evaluate(self, th, grad=False, full=False):
+        """log-evidence [, gradient (len 12)] [, (mean, covariance, H)] of the nodal (p, q)."""
+        m = self.m
+        mu0 = th[4]
+        nz, nx = math.exp(th[10]), math.exp(th[11])
+        Kp, Kr, pc = self.covariance(th)
+        jit = 1e-10 * max(float(np.max(np.diag(Kp))), float(np.max(np.diag(Kr))))
+        Kp[np.diag_indices(m)] += jit
+        Kr[np.diag_indices(m)] += jit
+        Lp = np.linalg.cholesky(Kp)
+        Lr = np.linalg.cholesky(Kr)
+        Lk = np.zeros((2 * m, 2 * m))
+        Lk[:m, :m] = Lp
+        Lk[m:, :m] = mu0 * Lp
+        Lk[m:, m:] = Lr
+        H = self.Gz / nz**2 + self.Gx / nx**2
+        b = self.bz / nz**2 + self.bx / nx**2
+        B = Lk.T @ H @ Lk
+        B[np.diag_indices_from(B)] += 1.0
+        Lb = np.linalg.cholesky(B)
+        beta = Lk.T @ b
+        alpha = _cho(Lb, beta)
+        mean = Lk @ alpha
+        logdet = 2.0 * np.sum(np.log(np.diag(Lb)))
+        quad = self.ez / nz**2 + self.ex / nx**2 - beta @ alpha
+        n = self.n
+        logev = -0.5 * quad - 0.5 * logdet - n * (th[10] + th[11]) - n * math.log(2.0 * math.pi)
+        if not (grad or full):
+            return logev
+        from scipy.linalg import solve_triangular
+
+        Li = solve_triangular(Lb, Lk.T, lower=True)
+        S = Li.T @ Li  # posterior covariance
+        out = [logev]
+        if grad:
+            g = np.zeros(_N)
+            # d logev = 1/2 tr(Wm dK), Wm = Km Km^T - H + H S H (Km = K^-1 mean = b - H mean)
+            Km = b - H @ mean
+            HS = H @ S
+            Wm = np.outer(Km, Km) - H + HS @ H
+            Wm = 0.5 * (Wm + Wm.T)
+            Wpp, Wpq, Wqq = Wm[:m, :m], Wm[:m, m:], Wm[m:, m:]
+            Wp = Wpp + 2.0 * mu0 * Wpq + mu0 * mu0 * Wqq  # K_f = [[Kp, mu0 Kp], [., mu0^2 Kp + Kr]]
+            Wp = 0.5 * (Wp + Wp.T)
+            w = pc["w"]
+            g[2] = float(np.sum(Wp * pc["Ap"])) * pc["sp2"]
+            g[3] = 0.5 * pc["sp2"] * float(np.sum(Wp * (w[:, None] * pc["dCp"] * w[None, :])))
+            g[4] = float(np.sum(Wpq * Kp)) + mu0 * float(np.sum(Wqq * Kp))
+            g[5] = float(np.sum(Wqq * pc["Ar"])) * pc["sr2"]
+            if TIE_MU_PART:
+                g[2] += g[5]
+                g[5] = 0.0
+            g[6] = 0.5 * pc["sr2"] * float(np.sum(Wqq * (w[:, None] * pc["dCr"] * w[None, :])))
+            ind = pc["ind"]
+            g[2] += float(np.sum(Wqq * pc["At"])) * pc["st2"]  # the step's sd is s_p
+            g[8] = 0.5 * pc["st2"] * float(np.sum(Wqq * (ind[:, None] * pc["dCt"] * ind[None, :])))
+            g[9] = pc["so2"] * float(np.trace(Wp) + np.trace(Wqq))
+            if not self.known:
+                # d(W C W) = dW C W + W C dW: 1/2 tr(X d(WCW)) = dw . ((X * C) @ w)
+                vp = pc["sp2"] * ((Wp * pc["Cp"]) @ w) + pc["sr2"] * ((Wqq * pc["Cr"]) @ w)
+                vt = pc["st2"] * ((Wqq * pc["Ct"]) @ ind)
+                g[0] = float(pc["dwc"] @ vp + pc["dic"] @ vt)
+                g[1] = float(pc["dwl"] @ vp + pc["dil"] @ vt)
+            for k, G, bb, ee, sig in ((10, self.Gz, self.bz, self.ez, nz),
+                                      (11, self.Gx, self.bx, self.ex, nx)):
+                rr = ee - 2.0 * mean @ bb + mean @ G @ mean + np.sum(G * S)
+                g[k] = -n + rr / sig**2
+            out.append(g)
+        if full:
+            out.append((mean, S, H))
+        return tuple(out)
+
+
+def _noise_guess(d):
+    """Noise sd from second differences (white noise: var(d2) = 6 sigma^2)."""
+    d2 = np.diff(d, 2)
+    return max(float(np.median(np.abs(d2))) / 0.6745 / math.sqrt(6.0),
+               1e-6 * float(np.max(np.abs(d)) or 1.0))
+
+
+def _bounds(ev: ContactPrior, scale, noise_floor=None):
+    t, dt = ev.t, ev.dt
+    x = ev.fwd.x
+    dxh = float(x[-1] - x[0]) / (x.size - 1)
+    floor = (NOISE_FLOOR if noise_floor is None else noise_floor) * math.sqrt(max(1.0, dt / dxh))
+    span = float(t[-1] - t[0])
+    lmin, lmax = math.log(max(dt, 0.05)), math.log(20.0)
+    amin, amax = math.log(1e-5 * scale), math.log(1e3 * scale)
+    lo = np.array([t[0], math.log(2 * dt), amin, lmin, -5.0, amin, lmin, amin, lmin,
+                   math.log(1e-7 * scale), math.log(floor * scale), math.log(floor * scale)])
+    hi = np.array([t[-1], math.log(0.5 * span), amax, lmax, 5.0, amax, lmax, amax, lmax,
+                   amax, math.log(10 * scale), math.log(10 * scale)])
+    return lo, hi
+
+
+def optimise_contact(ev: ContactPrior, dz, dx, window=None, start=None, noise_floor=None):
+    """Maximum of the log-evidence over the hyperparameters (L-BFGS-B, analytic gradient).
+    Starts: the window from the data (where d_zz exceeds a quarter of its peak, narrowed by the
+    film's spread) or ``window`` (c, w0) [h]; mu0 from the ratio of the data's integrals; the
+    noise from second differences.  A few window widths are tried (the evidence can have
+    several maxima in the window's width) and the best kept.
+    ``start``: a full theta to start from (one start).
+    Returns (theta, log-evidence, free mask)."""
+    from scipy.optimize import minimize
+
+    scale = max(float(np.max(np.abs(dz))), float(np.max(np.abs(dx))), 1e-300)
+    lo, hi = _bounds(ev, scale, noise_floor)
+    free = np.ones(_N, bool)
+    free[[7, 8]] = False  # the step part is a constant of prior sd s_p
+    if TIE_MU_PART:
+        free[5] = False
+    x = ev.fwd.x
+    if ev.known or window is not None:
+        if ev.known:
+            c0, w00 = 0.5 * (ev.t[0] + ev.t[-1]), 0.5 * (ev.t[-1] - ev.t[0])
+            free[[0, 1]] = False
+        else:
+            c0, w00 = window
+        widths = (w00,)
+    else:
+        big = dz > 0.25 * np.max(dz)
+        if big.any():
+            a0, b0 = float(x[big].min()), float(x[big].max())
+        else:
+            a0, b0 = float(x[0]), float(x[-1])
+        c0, w00 = 0.5 * (a0 + b0), max(0.5 * (b0 - a0) - 0.5, 2.0 * ev.dt)
+        widths = tuple(w00 * f for f in (0.7, 1.0, 1.4))
+    nz0 = min(max(_noise_guess(dz), 1e-4 * scale), 0.3 * scale)
+    nx0 = min(max(_noise_guess(dx), 1e-4 * scale), 0.3 * scale)
+    Iz, Ix = float(np.sum(dz)), float(np.sum(dx))
+    mu00 = float(np.clip(Ix / Iz, -4.0, 4.0)) if Iz > 0 else 0.0
+    sp0 = 1.3 * float(np.max(np.abs(dz)))
+    best = None
+    for w0 in (widths if start is None else widths[:1]):
+        th0 = start.copy() if start is not None else np.array([
+                        c0, math.log(w0), math.log(sp0), math.log(max(w0, 0.1)), mu00,
+                        math.log(0.05 * sp0), math.log(max(w0, 0.1)), math.log(0.05 * sp0),
+                        math.log(max(w0, 0.1)), math.log(1e-3 * sp0), math.log(nz0),
+                        math.log(nx0)])
+        th0 = np.clip(th0, lo, hi)
+        if start is not None and ev.known:
+            th0[[0, 1]] = c0, math.log(w00)
+
+        seen = [None, -np.inf]
+
+        def f(z, th0=th0, seen=seen):
+            th = th0.copy()
+            th[free] = z
+            try:
+                v, g = ev.evaluate(th, grad=True)
+            except np.linalg.LinAlgError:
+                return 1e300, np.zeros(z.size)
+            if not np.isfinite(v):
+                return 1e300, np.zeros(z.size)
+            if v > seen[1]:
+                seen[:] = [th, v]
+            return -v, -g[free]
+
+        minimize(f, th0[free], jac=True, method="L-BFGS-B", bounds=list(zip(lo[free], hi[free])),
+                 options={"maxiter": 400, "ftol": 1e-11, "gtol": 1e-4})
+        if seen[0] is not None and (best is None or seen[1] > best[1]):
+            best = (seen[0], seen[1])
+    if best is None:
+        raise np.linalg.LinAlgError("the evidence could not be evaluated at any start")
+    return best[0], best[1], free
+
+
+def _scan_edges(ev: ContactPrior, th, reach=1.0, step=0.125):
+    """The window's edges, one at a time, over +- ``reach`` [h] at ``step`` with the other
+    hyperparameters held: the evidence can have a second maximum in an edge's position (the
+    film blurs the edge over ~h) that a local search started on the wrong side does not leave.
+    Returns (theta, log-evidence) of the best point seen."""
+    best, bv = th, ev.evaluate(th)
+    for side in (-1.0, 1.0):
+        a, b = best[0] - math.exp(best[1]), best[0] + math.exp(best[1])
+        for d in np.arange(-reach, reach + 1e-9, step):
+            aa, bb = (a + d, b) if side < 0 else (a, b + d)
+            if bb - aa < 4 * ev.dt:
+                continue
+            t = best.copy()
+            t[0], t[1] = 0.5 * (aa + bb), math.log(0.5 * (bb - aa))
+            try:
+                v = ev.evaluate(t)
+            except np.linalg.LinAlgError:
+                continue
+            if v > bv:
+                best, bv = t, v
+    return best, bv
+
+
+def propagate(ev: ContactPrior, theta, free, mean, S, step=1e-3):
+    """Covariance of the nodal tractions with the hyperparameters integrated over (Laplace):
+    S + J Sigma_theta J^T (module docstring).  Hyperparameters at a bound of the search are held
+    fixed (their Laplace width is not defined there).  Returns (covariance, Sigma_theta over the
+    free hyperparameters, their indices)."""
+    lo, hi = _bounds(ev, 1.0)
+    # bounds were made for the scaled data: scale 1 is the data's scale in the core
+    idx = [k for k in np.nonzero(free)[0]
+           if lo[k] + 1e-6 < theta[k] < hi[k] - 1e-6]
+    d = len(idx)
+    if d == 0:
+        return S, np.zeros((0, 0)), idx
+    Hs = np.zeros((d, d))
+    J = np.zeros((mean.size, d))
+    for a, k in enumerate(idx):
+        tp, tm = theta.copy(), theta.copy()
+        tp[k] += step
+        tm[k] -= step
+        _, gp, (mp, _, _) = ev.evaluate(tp, grad=True, full=True)
+        _, gm, (mm, _, _) = ev.evaluate(tm, grad=True, full=True)
+        Hs[:, a] = -(gp[idx] - gm[idx]) / (2 * step)
+        J[:, a] = (mp - mm) / (2 * step)
+    Hs = 0.5 * (Hs + Hs.T)
+    w, V = np.linalg.eigh(Hs)
+    # a direction of non-positive curvature (a flat evidence) carries no Laplace width: drop it
+    keep = w > 1e-8 * max(float(w.max()), 1e-300)
+    Sig = (V[:, keep] / w[keep]) @ V[:, keep].T
+    return S + J @ Sig @ J.T, Sig, idx
+
+
+COARSE_STEP_H = 0.25
+"""Node step [h] of the first pass (the window's search over the whole record)."""
+FINE_STEP_H = 1.0 / 16.0
+"""Node step [h] of the second pass (the square-root edges want nodes finer than the film's
+resolution: h/8 leaves 1-2 % of L2 error and biased windows that h/16 removes)."""
+EDGE_SPAN_H = 1.5
+"""The second pass's nodes cover the first pass's window widened by this [h] on each side;
+the tractions are zero beyond (the contact prior's own statement, bar its nugget)."""
+
+
+def fit_contact(xh, film, symbols, zs, xs, support=None):
+    """Two passes: coarse nodes over the record +- MARGIN_H (the window's search, three starts),
+    then fine nodes on the window +- EDGE_SPAN_H from the first pass's optimum.  Returns
+    (forward map, ContactPrior, theta, log-evidence, free mask)."""
+    from .inverse_forward import MARGIN_H, LineForward
+
+    if support is not None:
+        fwd = LineForward.build(xh, film, symbols, support=support,
+                                step=min(FINE_STEP_H, (support[1] - support[0]) / 8))
+        ev = ContactPrior(fwd, zs, xs, known=True)
+        th, le, free = optimise_contact(ev, zs, xs)
+        return fwd, ev, th, le, free
+    fwd = LineForward.build(xh, film, symbols, step=COARSE_STEP_H)
+    ev = ContactPrior(fwd, zs, xs)
+    th, le, free = optimise_contact(ev, zs, xs)
+    c, w0 = th[0], math.exp(th[1])
+    lo = max(c - w0 - EDGE_SPAN_H, xh[0] - MARGIN_H)
+    hi = min(c + w0 + EDGE_SPAN_H, xh[-1] + MARGIN_H)
+    fwd = LineForward.build(xh, film, symbols, step=FINE_STEP_H, span=(lo, hi))
+    ev = ContactPrior(fwd, zs, xs)
+    th, le, free = optimise_contact(ev, zs, xs, start=th)
+    for _ in range(2):  # leave a wrong side of a bimodal edge
+        t2, v2 = _scan_edges(ev, th)
+        if v2 <= le + 0.01:
+            break
+        th, le, free = optimise_contact(ev, zs, xs, start=t2)
+    return fwd, ev, th, le, free

@@ -1,0 +1,158 @@
+"""Inverse, surfaces: a sliding sphere's base maps back to its tractions (issue 21, study part 3).
+
+    python -m studies.inverse_maps [--quick] [--out DIR] [--seeds N]
+
+Truths: the package's own sliding-sphere solves on the paper's film (h = 2 mm, E = 2.2 MPa,
+R = 130 mm, F = 1 N, sliding toward +x), on the solver's periodic grid of 160 x 160 points
+(step h/8 over ~20 h: the base field has decayed to ~1e-4 of its peak at the border, so the
+record is one period):
+
+* amontons: mu = 1 (q = mu p e_x);
+* strength: q = tau0 + alpha p in the contact (tau0 = 5 kPa, alpha = 0.5; steps at the edge).
+
+Records: the base maps (view "base") or the MEMS S maps through the paper's 2D apparatus
+functions (``instruments.sensor.sensor_maps``, view "sensor"; amontons only), plus white
+Gaussian noise of sd = 1 % of each component's peak, one record per seed.  Per record: F, Q_x,
+Q_y against the truth (z = (estimate - truth)/sigma, relative error), the share of points where
+the 2-sd band holds the truth of p and q_x on the central 70 % of the contact (r < 0.7 a_eff
+from the pressure centroid, a_eff = sqrt(area/pi)) and over the whole contact (p > 0), L2
+errors of p and q_x over the contact (relative to the truth's norm), the resolution length and
+the prior's smoothness chosen by the evidence; the CPU time of the inversion
+(time.process_time) and the machine's load.
+
+Writes inverse_maps_records.csv (one row per record), inverse_maps_summary.csv (means over
+seeds), inverse_maps.png (one record's ``MapInversion.plot()``) and inverse_maps_example.npz
+(a record a new user can invert: ``spectral-contact invert DIR/inverse_maps_example.npz``).
+"""
+from __future__ import annotations
+
+import os
+import sys
+import time
+
+import numpy as np
+
+from spectral_contact import solve
+from spectral_contact.instruments.inverse_maps import invert_maps
+from spectral_contact.instruments.sensor import sensor_maps
+
+from ._common import parse, table, write_rows
+
+GRID = 160
+
+
+def truth(case: str):
+    kw = {"amontons": {"mu": 1.0},
+          "strength": {"mu": 1.0, "friction_law": "linear", "shear_strength": 5e3,
+                       "shear_slope": 0.5}}[case]
+    r = solve(indenter="sphere", force=1.0, grid_points=GRID, **kw)
+    m = r.maps()
+    S = r.scene.stress_unit
+    p = m["pressure_Pa"]
+    qx = r.scene.mu * p if r.shear is None else np.asarray(r.shear) * S
+    return r, m, p, qx, 0.0 * p
+
+
+def record(tr, view, noise, seed):
+    r, m, *_ = tr
+    if view == "base":
+        d = [-m["base_sigma_zz_Pa"], m["base_sigma_xz_Pa"], m["base_sigma_yz_Pa"]]
+    else:
+        s = sensor_maps(r)
+        d = [s["S_zz_Pa"], s["S_xz_Pa"], s["S_yz_Pa"]]
+    rng = np.random.default_rng(seed)
+    return [f + noise * np.abs(f).max() * rng.standard_normal(f.shape) for f in d]
+
+
+def score(tr, inv, x, y):
+    _, _, p, qx, qy = tr
+    rec = inv.summary()
+    dA = (x[1] - x[0]) * (y[1] - y[0])
+    F, Qx = p.sum() * dA, qx.sum() * dA
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    c = p > 0
+    cx, cy = (X * p).sum() / p.sum(), (Y * p).sum() / p.sum()
+    a = np.sqrt(c.sum() * dA / np.pi)
+    central = c & (np.hypot(X - cx, Y - cy) < 0.7 * a)
+    out = {"z_F": (rec["force_N"] - F) / rec["force_sigma_N"],
+           "err_F": rec["force_N"] / F - 1.0,
+           "z_Qx": (rec["tangential_force_x_N"] - Qx) / rec["tangential_force_x_sigma_N"],
+           "err_Qx": rec["tangential_force_x_N"] / Qx - 1.0,
+           "z_Qy": rec["tangential_force_y_N"] / rec["tangential_force_y_sigma_N"]}
+    for name, f, t, s in (("p", inv.pressure_Pa, p, inv.pressure_sd_Pa),
+                          ("qx", inv.shear_x_Pa, qx, inv.shear_x_sd_Pa)):
+        inside = np.abs(f - t) <= 2 * s
+        out[f"cover_central_{name}"] = float(inside[central].mean())
+        out[f"cover_contact_{name}"] = float(inside[c].mean())
+        out[f"L2_{name}"] = float(np.linalg.norm((f - t)[c]) / np.linalg.norm(t[c]))
+    out["a_eff_over_h"] = float(a / rec["thickness_m"])
+    out["resolution_over_h"] = rec["resolution_length_m"] / rec["thickness_m"]
+    out["nu"] = rec["regularisation"]["smoothness_nu"]
+    out["best_law"] = str(rec["laws"].get("best"))
+    return out
+
+
+def summarise(rows):
+    keys = [k for k in rows[0] if k not in ("case", "view", "seed", "best_law")]
+    out = []
+    for case, view in sorted({(r["case"], r["view"]) for r in rows}):
+        rs = [r for r in rows if r["case"] == case and r["view"] == view]
+        s = {"case": case, "view": view, "records": len(rs)}
+        for k in keys:
+            s[k] = float(np.mean([r[k] for r in rs]))
+        s["share_F_2sigma"] = float(np.mean([abs(r["z_F"]) <= 2 for r in rs]))
+        s["share_Qx_2sigma"] = float(np.mean([abs(r["z_Qx"]) <= 2 for r in rs]))
+        s["share_F_1pct"] = float(np.mean([abs(r["err_F"]) <= 0.01 for r in rs]))
+        s["share_Qx_1pct"] = float(np.mean([abs(r["err_Qx"]) <= 0.01 for r in rs]))
+        s["rms_z_F"] = float(np.sqrt(np.mean([r["z_F"] ** 2 for r in rs])))
+        s["rms_z_Qx"] = float(np.sqrt(np.mean([r["z_Qx"] ** 2 for r in rs])))
+        out.append(s)
+    return out
+
+
+def main(argv=None) -> int:
+    args, out = parse(argv, __doc__.splitlines()[0], "out/inverse_maps",
+                      extra=lambda p: p.add_argument("--seeds", type=int, default=None,
+                                                     help="noise seeds per case (10; --quick 2)"))
+    seeds = args.seeds or (2 if args.quick else 10)
+    cases = (("amontons", "base"), ("amontons", "sensor"), ("strength", "base"))
+    if args.quick:
+        cases = cases[:1]
+    truths = {c: truth(c) for c in {c for c, _ in cases}}
+    t0 = time.perf_counter()
+    rows = []
+    n = len(cases) * seeds
+    example = None
+    for case, view in cases:
+        tr = truths[case]
+        x, y = tr[1]["x_m"], tr[1]["y_m"]
+        for seed in range(seeds):
+            d = record(tr, view, 0.01, seed)
+            c0 = time.process_time()
+            inv = invert_maps(x, y, *d, thickness=0.002, view=view)
+            cpu = time.process_time() - c0
+            rows.append({"case": case, "view": view, "seed": seed, **score(tr, inv, x, y),
+                         "cpu_s": cpu, "load_1min": os.getloadavg()[0]})
+            if example is None:
+                example = (inv, x, y, d)
+            print(f"  [{len(rows)}/{n}] {case} {view} seed {seed}: cpu {cpu:.1f} s "
+                  f"({time.perf_counter() - t0:.0f} s)", file=sys.stderr, flush=True)
+    write_rows(rows, out / "inverse_maps_records.csv",
+               f"inverse maps: one row per record (sliding sphere F = 1 N on the paper's film, "
+               f"{GRID}^2 base or S maps, 1 % noise); z = (estimate - truth)/sigma, err relative, "
+               f"cover = share of points with |estimate - truth| <= 2 sd, L2 relative to the "
+               f"truth's norm over the contact; cpu_s = time.process_time of the inversion [s]")
+    table(summarise(rows), out / "inverse_maps_summary.csv",
+          f"inverse maps, 1 % noise, {seeds} seeds per row: means, shares within 2 sigma and "
+          f"1 %, coverage (central 70 % / whole contact), L2 errors, CPU [s]")
+    inv, x, y, d = example
+    inv.plot().savefig(out / "inverse_maps.png", dpi=100)
+    with open(out / "inverse_maps_example.npz", "wb") as fh:
+        np.savez(fh, x_m=x, y_m=y, base_sigma_zz_Pa=-d[0], base_sigma_xz_Pa=d[1],
+                 base_sigma_yz_Pa=d[2])
+    print(f"wrote {out} ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
