@@ -64,10 +64,6 @@ _SHIFT_RESIDUAL = 0.25  # averaged phase error <= this fraction of the shift dif
 # Measured amplitude (against tol 1e-5 solves, L - 2a = 6 ... 12 h): 0.5-0.6 at mu 0, 0.6-1.0 at
 # mu 2, 1.5 at mu 10; bounded by _IMAGE_AMPLITUDE * max(1, |mu|/10)
 _IMAGE_AMPLITUDE = 2.0
-_VISCO_IMAGE_FACTOR = 2.0  # a relaxation tail as long as the period or longer: the images'
-# error decays slower than exp(-L/l_r) alone; measured 1.6 x the change from L to 2L (a_H/h 0.1,
-# 3.16 m/s, l_r = 31.6 h = 2 L; changes 3.9e-5, 1.5e-5, 4.9e-6, 1.7e-6 of d from L to 8L): the
-# estimate takes twice the change (a geometric tail of ratio 1/2 at most)
 _VISCO_EDGE_CELLS = 4  # viscoelastic film: cells across the edge structure |V| tau_i (_level_sizes)
 _VISCO_EDGE_SHARE = 0.25  # an unresolved term moves x_c and a by up to ~0.6 E_i/E_inf |V| tau_i
 # (measured, SLS E_1 = E_inf, paper's scene, V tau/h = 1.5e-3: x_c moved by 6e-4 a from 1024
@@ -301,8 +297,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         slow = slow_sliding(scene, film, model, tol, solve_fft)
         if slow is not None:
             return slow
-    # images ~ tol/100 x O(1); a relaxation tail's images are measured (4.)
-    margin = film.domain_margin(tol, images_measured=True) if visco else film.domain_margin(tol)
+    margin = film.domain_margin(tol)  # images ~ tol/100 x O(1)
     # residual (relative displacement / pressure / load) accepted from each contact solve:
     # far below tol, but not below what round-off allows for very wide contacts
     accept = max(1e-8, 1e-2 * tol)
@@ -521,7 +516,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         krylov += far.krylov_iterations
         outer += far.iterations
         domain_diff = _difference(_measure(far, visco), q0)
-        image_error = max(image_error, (_VISCO_IMAGE_FACTOR if visco else 1.0) * domain_diff)
+        image_error = max(image_error, domain_diff)
         est = disc + image_error
         if domain_length is not None or domain_diff <= 0.25 * tol:
             break
