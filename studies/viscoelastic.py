@@ -193,6 +193,8 @@ def part_reference(quick: bool, out, t0) -> list[dict]:
                "dmu_over_mu": (r.deformation_friction - mu_h) / mu_h,
                "error_estimate": r.error_estimate, "grid_points": r.grid_points,
                "slow_sliding": "slow_sliding" in r.info}
+        row.update(dict.fromkeys(("colloc_da_over_a", "colloc_dxc_over_a", "colloc_dmu_over_mu",
+                                  "colloc_dx_over_a"), float("nan")))
         if ah == 0.01 and lr <= 0.14:  # the collocation against the closed form
             o = sls_halfspace_contact(P, 0.5, lr, n=700 if quick else 1500)
             row.update({"colloc_da_over_a": (o["a"] - a) / a, "colloc_dxc_over_a": (o["c"] - c) / a,

@@ -178,7 +178,7 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     ind = scene.indenter_object()
     if progress is None:  # issue 24: surface solves of 5-14 s printed nothing
         progress = logging.getLogger(__name__).info
-    margin = film.domain_margin(tol)
+    margin = film.domain_margin(tol, surface=True) if visco else film.domain_margin(tol)
     accept = max(1e-8, 1e-2 * tol)
     counters = {"transforms": 0, "iterations": 0, "linear_iterations": 0}
     # issue 14: a friction law (outer fixed point) and/or a linear interface (H + c), as in 2D
@@ -252,7 +252,7 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
         free = math.log(2.0 / tol) / film.decay_rate
         need = (width_x + free, width_y + free)
         if visco:  # and along x the relaxation tail behind the contact (issue 23)
-            need = (width_x + free + film.domain_margin(tol) - Film.domain_margin(film, tol),
+            need = (width_x + free + margin - Film.domain_margin(film, tol),
                     need[1])
         if any(L < n for L, n in zip(domain_length, need)):
             raise InputError(

@@ -58,7 +58,10 @@ def slow_sliding(scene, film, model: str, tol: float, solve_elastic):
         return np.interp(x - delta, x, f, period=L)
 
     P_el = float(np.sum(el.pressure))
-    m_el = el.info.get("pressure_centroid", float(np.dot(el.pressure, x)) / P_el)
+    if (scene.mu == 0.0 or model == "goodman") and scene.height is None:
+        m_el = el.center  # a symmetric elastic contact: its centroid is its (averaged) centre
+    else:  # (the final grid's centroid)
+        m_el = el.info.get("pressure_centroid", float(np.dot(el.pressure, x)) / P_el)
     edges = sorted(tuple(e) for e in (el.info.get("edges") or ()))
     if edges:  # the trailing edge moves in by |delta|; the leading one stays
         if delta > 0:
