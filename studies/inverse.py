@@ -159,13 +159,14 @@ def main(argv=None) -> int:
     write_rows(rows, out / "inverse_calibration.csv",
                "inverse calibration: one row per record (1 % noise, 401 samples over +-10 mm)")
     summ = summarise(rows, ("case", "view", "positive"))
-    summ.append(summarise([dict(r, all="all") for r in rows if not r["positive"]], ("all",))[0])
+    summ += summarise([dict(r, case="all", view="all") for r in rows if not r["positive"]],
+                      ("case", "view", "positive"))
     table(summ, out / "inverse_summary.csv",
           f"inverse calibration, 1 % noise, {seeds} seeds per row: L2 errors, 2-sd coverage "
           f"(central 70 % / whole contact), P and Q z-scores")
     # 2. noise and feature size
     sweep = []
-    s2 = 1 if args.quick else 5
+    s2 = 1 if args.quick else 3
     for view in ("base", "sensor"):
         for noise in ((0.01,) if args.quick else (0.003, 0.01, 0.03)):
             for seed in range(s2):

@@ -15,8 +15,10 @@ functions (``instruments.sensor.sensor_maps``, view "sensor"; amontons only), pl
 Gaussian noise of sd = 1 % of each component's peak, one record per seed.  Per record: F, Q_x,
 Q_y against the truth (z = (estimate - truth)/sigma, relative error), the share of points where
 the 2-sd band holds the truth of p and q_x on the central 70 % of the contact (r < 0.7 a_eff
-from the pressure centroid, a_eff = sqrt(area/pi)) and over the whole contact (p > 0), L2
-errors of p and q_x over the contact (relative to the truth's norm), the resolution length and
+from the pressure centroid, a_eff = sqrt(area/pi)), over the whole contact (p > 0), outside
+it, and in rings of r/a_eff; the same share for R(truth), the truth as the posterior mean sees
+it (``MapInversion.resolve``: the error's resolution part removed), L2 errors of p and q_x
+over the contact (relative to the truth's norm) and of R(truth), the resolution length and
 the prior's smoothness chosen by the evidence; the CPU time of the inversion
 (time.process_time) and the machine's load.
 
@@ -79,12 +81,21 @@ def score(tr, inv, x, y):
            "z_Qx": (rec["tangential_force_x_N"] - Qx) / rec["tangential_force_x_sigma_N"],
            "err_Qx": rec["tangential_force_x_N"] / Qx - 1.0,
            "z_Qy": rec["tangential_force_y_N"] / rec["tangential_force_y_sigma_N"]}
-    for name, f, t, s in (("p", inv.pressure_Pa, p, inv.pressure_sd_Pa),
-                          ("qx", inv.shear_x_Pa, qx, inv.shear_x_sd_Pa)):
+    rp, rqx, _ = inv.resolve(p, qx, qy)
+    r_a = np.hypot(X - cx, Y - cy) / a
+    for name, f, t, s, rt in (("p", inv.pressure_Pa, p, inv.pressure_sd_Pa, rp),
+                              ("qx", inv.shear_x_Pa, qx, inv.shear_x_sd_Pa, rqx)):
         inside = np.abs(f - t) <= 2 * s
         out[f"cover_central_{name}"] = float(inside[central].mean())
         out[f"cover_contact_{name}"] = float(inside[c].mean())
+        out[f"cover_outside_{name}"] = float(inside[~c].mean())
+        for lo, hi in ((0.0, 0.5), (0.5, 0.8), (0.8, 1.0), (1.0, 1.3)):
+            ring = (r_a >= lo) & (r_a < hi)
+            out[f"cover_r{lo:g}-{hi:g}_{name}"] = float(inside[ring].mean())
         out[f"L2_{name}"] = float(np.linalg.norm((f - t)[c]) / np.linalg.norm(t[c]))
+        # against what the inversion can see: R(truth) (resolution, not noise)
+        out[f"cover_resolved_contact_{name}"] = float((np.abs(f - rt) <= 2 * s)[c].mean())
+        out[f"L2_resolution_{name}"] = float(np.linalg.norm((rt - t)[c]) / np.linalg.norm(t[c]))
     out["a_eff_over_h"] = float(a / rec["thickness_m"])
     out["resolution_over_h"] = rec["resolution_length_m"] / rec["thickness_m"]
     out["nu"] = rec["regularisation"]["smoothness_nu"]

@@ -157,12 +157,12 @@ def speed_rows(quick: bool) -> list[dict]:
     from spectral_contact.numerics.partial_slip import PartialSlipOperator
 
     op = PartialSlipOperator(r.grid)
-    buf = op._pair[0]
+    buf = op._plan[0]
 
     def pair():
         buf[0] = r.pressure[-1]
         buf[1] = r.shear[-1]
-        op.transform(op.H)
+        op.transform(op.M)
 
     t_pair = median_time(lambda: [pair() for _ in range(200)], 5, warm=True) / 200
     return [{"scene": "paper (200 N/m, mu 2)", "steps": r.n_steps, "loading_steps":

@@ -58,8 +58,9 @@ SLIDING = dict(indenter="sphere", force=1.0, mu=1.0, domain_length=0.03)  # 30 m
 TARGET_PAIRS = 70.0      # fixed-grid sliding sphere through solve(): FFT-pair times of its grid
 TARGET_CYLINDER = 60.0   # the paper's finite cylinder at its default tol: pair times of 1024^2
 TARGET_FLAT_GMRES = 1.5  # finest-grid GMRES iterations: largest N over smallest N, at most (the
-# ratio issue 10 set; measured 17, 17, 18, 24 at 256^2 ... 2048^2: a third active-set step of
-# 5 GMRES iterations at 2048^2 sheds 2 nodes)
+# ratio issue 10 set; measured 17, 17, 18, 19 at 256^2 ... 2048^2 with the release look-ahead,
+# numerics.contact._released_tensile; 24 at 2048^2 before it: a third active-set step of 5
+# GMRES iterations for 2 nodes that the first step's release turned tensile)
 TARGET_FLAT_STEPS = 1    # and finest-grid active-set steps
 BIG_N = 4096
 
@@ -107,6 +108,65 @@ def public_fixed_rows(ns, repeats: int) -> list[dict]:
                      "all_gmres_its": r.counters["linear_iterations"],
                      "error_estimate": r.error_estimate})
     return rows
+
+
+def phases(n: int, repeats: int = 3, log=print) -> dict:
+    """Where the public fixed-grid solve of the sliding sphere (SLIDING, n x n) spends its time:
+    the contact solve of each grid, the output fields, the nested first sets, the contact
+    measures and the rest, in FFT-pair times of n x n (the solve's median of ``repeats`` warm
+    runs interleaved with the pair; each phase's time from the last run).  Times the phases by
+    wrapping those functions for the duration of the call (restored after)."""
+    import spectral_contact.numerics.contact as contact_mod
+    import spectral_contact.solvers.fft3d as fft3d_mod
+
+    acc: dict = {}
+    saved = []
+
+    def wrap(mod, name, key):
+        orig = getattr(mod, name)
+        saved.append((mod, name, orig))
+
+        def timed(*a, **k):
+            t = time.perf_counter()
+            out = orig(*a, **k)
+            label = key(out) if callable(key) else key
+            acc[label] = acc.get(label, 0.0) + time.perf_counter() - t
+            return out
+        setattr(mod, name, timed)
+
+    wrap(contact_mod, "solve_complementarity",
+         lambda out: f"contact solve {out.grid.shape[0]}^2 ({out.fft_pairs} FFT pairs)")
+    wrap(fft3d_mod, "_output_fields", "output fields")
+    wrap(fft3d_mod, "_measure", "contact measures")
+    wrap(fft3d_mod, "nested_guess", "nested first set of the finest grid")
+    wrap(contact_mod, "nested_guess", "nested first sets of the chain")
+    try:
+        solve(grid_points=n, **SLIDING)
+        f = get_rfft((n, n))
+        a = np.random.default_rng(0).random((n, n))
+        sym = np.ones((n, n // 2 + 1), complex)
+        totals, pairs = [], []
+        for _ in range(repeats):
+            acc.clear()
+            for _ in range(3):
+                t = time.perf_counter()
+                f.apply(a, sym)
+                pairs.append(time.perf_counter() - t)
+            t = time.perf_counter()
+            r = solve(grid_points=n, **SLIDING)
+            totals.append(time.perf_counter() - t)
+    finally:
+        for mod, name, orig in saved:
+            setattr(mod, name, orig)
+    pair = float(np.median(pairs))
+    out = {k: v / pair for k, v in acc.items()}
+    out["rest"] = (totals[-1] - sum(acc.values())) / pair
+    out["whole solve (median)"] = float(np.median(totals)) / pair
+    if log:
+        log(f"{n}^2: {out['whole solve (median)']:.1f} FFT-pair times, {r.counters['transforms']} "
+            "FFT pairs; " + "; ".join(f"{k} {v:.1f}" for k, v in out.items()
+                                     if k != "whole solve (median)"))
+    return out
 
 
 def cylinder_row(repeats: int) -> dict:

@@ -25,6 +25,7 @@ S = "solve"
 SRC = None  # --src: PYTHONPATH of the package under test
 MEAS = "meas.csv"  # a small measured profile written by _fixtures
 RAD = "rad.csv"
+REC = "rec.csv"  # a line record of base stresses (invert)
 
 CASES = [
     # (argv, accepted exit codes, note)
@@ -199,6 +200,71 @@ CASES = [
      "InputError"),
     (["py", "import spectral_contact as sc\ntry:\n    sc.sensor('x')\n"
       "except sc.InputError:\n    print('InputError')"], {0}, "API: sensor('x')", "InputError"),
+    # --- issue 24, second pass: the newer commands (invert, onset, the viscoelastic film) ---
+    # invert: the three line views, bad files, values and spans outside its range
+    (["invert", REC, "--json", "--out", "t.csv", "--plot", "t.png"], {0}, "invert base view"),
+    (["invert", MEAS, "--json"], {0}, "invert S view"),
+    (["invert", "u.csv"], {0}, "invert U view", "sensor view"),
+    (["invert", "rec_nan.csv"], {2}, "invert NaN cell"),
+    (["invert", "rec_one.csv"], {2}, "invert one row"),
+    (["invert", "rec_rev.csv"], {2}, "invert unsorted x"),
+    (["invert", "rec_mixed.csv"], {2}, "invert mixed views"),
+    (["invert", "rec_huge.csv"], {2}, "invert huge values"),
+    (["invert", "rec_sub.csv"], {2}, "invert subnormal values"),
+    (["invert", "rec_mm.csv"], {2}, "invert x in millimetres"),
+    (["invert", "mtiny.csv"], {2}, "invert subnormal x span"),
+    (["invert", "empty.csv"], {2}, "invert empty file"),
+    (["invert", "header.csv"], {2}, "invert header only"),
+    (["invert", "fifo.csv"], {2}, "invert FIFO"),
+    (["invert", "nonuni.csv"], {2}, "invert non-uniform x"),
+    (["invert", REC, "--thickness", "5e-324"], {2}, "invert subnormal thickness"),
+    (["invert", REC, "--thickness", "1e308"], {2}, "invert huge thickness"),
+    (["invert", REC, "--support", "0.5", "1"], {2}, "invert support outside the record"),
+    (["invert", REC, "--support", "nan", "1"], {2}, "invert NaN support"),
+    (["invert", REC, "--apparatus-zz", "G.csv"], {2}, "invert apparatus on base stresses"),
+    (["invert", REC, "--load", "100"], {2}, "invert takes no --load"),
+    (["invert", REC, "--out", REC], {2}, "invert output over its input"),
+    (["invert", REC, "--out", "hl_rec.csv"], {2}, "invert output a hard link to its input"),
+    (["invert", REC, "--out", "t.csv", "--plot", "t.meta.json"], {2}, "invert plot over metadata"),
+    (["invert", REC, "--json", "--out", "t.csv"], {2}, "invert closed stdout", None,
+     {"stdout": "closed"}),
+    (["invert", REC, "--out", "t.csv"], {2}, "invert full stdout", None, {"stdout": "full"}),
+    # onset
+    (["onset", "--steps", "2", "--json", "--profiles", "o.csv", "--plot", "o.png"], {0}, "onset"),
+    (["onset", "--mu", "1e-300", "--steps", "2"], {2}, "onset vanishing mu"),
+    (["onset", "--indenter", "sphere", "--mu", "-5e-324"], {2}, "onset subnormal mu, sphere"),
+    (["onset", "--mu", "0.03", "--steps", "4"], {0, 3}, "onset small mu, frictional loading"),
+    (["onset", "--steps", "0"], {2}, "onset no step"),
+    (["onset", "--steps", "2.5"], {2}, "onset fractional steps"),
+    (["onset", "--amplitude", "nan"], {2}, "onset NaN amplitude"),
+    (["onset", "--indenter", "cylinder"], {2}, "onset finite cylinder"),
+    (["onset", "--speed", "0.1"], {2}, "onset takes no --speed"),
+    (["onset", "--maps", "m.npz"], {2}, "onset takes no --maps"),
+    (["onset", "--model", "goodman"], {2}, "onset takes no --model"),
+    (["onset", "--profiles", "o.csv", "--plot", "o.meta.json"], {2}, "onset plot over metadata"),
+    (["onset", "--steps", "2", "--json", "--profiles", "o.csv"], {2}, "onset closed stdout", None,
+     {"stdout": "closed"}),
+    (["onset", "--steps", "2", "--profiles", "o.csv"], {2}, "onset full stdout", None,
+     {"stdout": "full"}),
+    # the viscoelastic film
+    ([S, "--speed", "0.05", "--prony", "2.2e6,0.01", "--tol", "1e-2", "--json"], {0}, "visco"),
+    ([S, "--speed", "0.05", "--prony", "5e-324,0.01"], {2}, "visco subnormal E_i"),
+    ([S, "--speed", "0.05", "--prony", "1e308,0.01"], {2}, "visco huge E_i"),
+    ([S, "--speed", "0.05", "--prony", "2.2e6,5e-324"], {2}, "visco subnormal tau"),
+    ([S, "--speed", "0.05", "--prony", "2.2e6,1e308"], {2}, "visco huge tau"),
+    ([S, "--speed", "1e308", "--prony", "2.2e6,0.01"], {2}, "visco huge speed"),
+    ([S, "--speed", "0.05", "--prony", "2.2e6,0.01,1"], {2}, "visco odd prony"),
+    ([S, "--speed", "0.05", "--prony", "nan,0.01"], {2}, "visco NaN prony"),
+    ([S, "--prony", "2.2e6,0.01"], {2}, "visco prony without speed"),
+    ([S, "--speed", "-0.05", "--prony", "2.2e6,0.01"], {2}, "visco speed against mu"),
+    ([S, "--speed", "0.05", "--prony", "2.2e6,0.01", "--method", "abel"], {2}, "visco abel"),
+    ([S, "--speed", "0.05", "--prony", "2.2e6,0.01", "--poisson", "0.3"], {2}, "visco nu < 1/2"),
+    ([S, "--speed", "0.05", "--prony", "2.2e6,0.01", "--tol", "1e-2", "--profiles", "p.csv"],
+     {2}, "visco closed stdout", None, {"stdout": "closed"}),
+    # negative numbers in any notation are values (argparse < 3.13 took -1e-3 for an option)
+    ([S, "--mu", "-1e-3", "--tol", "1e-2"], {0}, "negative scientific mu", "mu_d = -0.001"),
+    ([S, "--mu", "-1e4"], {2}, "negative scientific mu out of range"),
+    (["compare", MEAS, "--poisson", "-1e-3", "--no-fit"], {2}, "negative scientific poisson"),
 ]
 
 
@@ -237,6 +303,23 @@ def _fixtures(d: Path):
     (d / "G.csv").write_text("r_m,G_per_m2\n0,1e6\n1e-4,9e5\n2e-4,5e5\n3e-4,1e5\n4e-4,0\n")
     os.link(d / "G.csv", d / "hl.csv")
     (d / "d.meta.json").mkdir()
+    base = -r.base_sigma_zz_Pa[np.abs(r.x_m) < 0.01][::8], r.base_sigma_xz_Pa[np.abs(r.x_m) < 0.01][::8]
+
+    def rec(name, xs, zz, xz, cols=("x_m", "base_sigma_zz_Pa", "base_sigma_xz_Pa")):
+        (d / name).write_text(",".join(cols) + "\n" + "\n".join(
+            f"{a:.17g},{-b:.17g},{c:.17g}" for a, b, c in zip(xs, zz, xz)) + "\n")
+
+    rec(REC, x, *base)
+    os.link(d / REC, d / "hl_rec.csv")
+    rec("rec_one.csv", x[:1], base[0][:1], base[1][:1])
+    rec("rec_rev.csv", x[::-1], base[0][::-1], base[1][::-1])
+    rec("rec_huge.csv", x, base[0] * 1e300, base[1] * 1e300)
+    rec("rec_sub.csv", x, base[0] * 1e-310, base[1] * 1e-310)
+    rec("rec_mm.csv", x * 1e3, *base)
+    rec("rec_mixed.csv", x, *base, cols=("x_m", "base_sigma_zz_Pa", "S_xz_Pa"))
+    nan = base[0].copy()
+    nan[5] = np.nan
+    rec("rec_nan.csv", x, nan, base[1])
     sel = np.abs(r.x_m) < 0.016
     (d / "mm.csv").write_text("x_m,S_zz_Pa,S_xz_Pa\n" + "\n".join(
         f"{a * 1e3:.17g},{b:.17g},{c:.17g}" for a, b, c in

@@ -120,6 +120,12 @@ def test_round_trip_bands(noisy):
                                                                inv.shear_x_sd_Pa),
                     (inv.shear_y_Pa, qy, inv.shear_y_sd_Pa)):
         assert np.mean(np.abs(f - t) <= 2 * s) >= 0.9
+    # against what the inversion can see (the resolution operator applied to the truth): the
+    # band holds it over the contact too (the error there is the noise's part only)
+    c = p > 0
+    for f, t, sd in zip((inv.pressure_Pa, inv.shear_x_Pa, inv.shear_y_Pa), inv.resolve(p, qx, qy),
+                        (inv.pressure_sd_Pa, inv.shear_x_sd_Pa, inv.shear_y_sd_Pa)):
+        assert np.mean((np.abs(f - t) <= 2 * sd)[c]) >= 0.9
     r = inv.summary()
     res = inv.data["data"][0] - inv.data["fit"][0]
     assert np.std(res) == pytest.approx(r["noise_sd_zz_Pa"], rel=0.1)
@@ -138,31 +144,42 @@ def test_noise_free_recovery():
 
 
 def test_y_invariant_equals_line():
-    """A y-invariant field: the map inverse's line y = 0 equals the line inverse's estimate
-    within their combined 2 sd at >= 90 % of the contact's points, and F / L_y equals the line's
-    P within their combined 2 sigma (and both the truth within 1 %).  The map's noise is
-    independent from cell to cell with sd s sqrt(n_y): its y-average carries the line record's
-    noise s."""
+    """A y-invariant field.  (1) The map's symbol at k_y = 0 is the line's (physics.md A, B, C):
+    the same forward problem.  (2) F / L_y equals the line inverse's P within their combined
+    2 sigma, both within 1 % of the truth.  (3) The estimates agree to the stated tolerance:
+    L2 difference over the contact <= 12 % of the truth's norm and max difference <= 20 % of
+    the peak.  Not to their bands: the line inverse's contact-aware prior recovers this truth
+    to ~2 % (L2), the map's stationary prior to ~9 % (its resolution error, see
+    studies/README.md, inverse_maps).  The map's noise is independent from cell to cell with sd
+    s sqrt(n_y): its y-average carries the line record's noise s."""
+    from spectral_contact.physics.film import Film as F1
+
     nx, ny = 96, 8
     x = (np.arange(nx) - nx // 2) * 0.25 * H
     y = np.arange(ny) * 0.25 * H
+    grid = Grid((nx, ny), (nx * 0.25, ny * 0.25))
+    M = im._symbol(grid, F1(1.0))[:, 0]  # k_y = 0: (k_x, 3, 3)
+    A, iB, iBp, C, _ = F1(1.0).base_coefficients(np.abs(grid.wavevector[0][:, 0]))
+    sg = np.sign(grid.wavevector[0][:, 0])
+    nyq = nx // 2  # the Nyquist mode: its odd coupling averaged to 0
+    sg[nyq] = 0.0
+    assert np.allclose(M[:, 0, 0], A) and np.allclose(M[:, 1, 1], C)
+    assert np.allclose(M[:, 0, 1], -iB * sg) and np.allclose(M[:, 1, 0], -iBp * sg)
+    assert np.allclose(M[:, 2, :2], 0) and np.allclose(M[:, :2, 2], 0)
     a = 1.5 * H
     p1 = 5e4 * np.sqrt(np.clip(1 - (x / a) ** 2, 0, None))
     q1 = 0.5 * p1
     szz, sxz = base_from_tractions(x, p1, q1, H)
     rng = np.random.default_rng(4)
     s = 0.01 * np.abs(szz).max()
+    # the line inverse with its stationary-GP ("envelope") prior, the maps' kind; its default
+    # contact prior (sqrt edges) is 2.4 % from the truth here where both are 17-18 %
     line = invert_line(x, -szz + s * rng.standard_normal(nx), sxz + s * rng.standard_normal(nx),
-                       thickness=H)
+                       thickness=H, prior="envelope")
     sm_ = s * math.sqrt(ny)
     zz = np.repeat(-szz[:, None], ny, 1) + sm_ * rng.standard_normal((nx, ny))
     xz = np.repeat(sxz[:, None], ny, 1) + sm_ * rng.standard_normal((nx, ny))
     inv = im.invert_maps(x, y, zz, xz, sm_ * rng.standard_normal((nx, ny)), thickness=H)
-    pl = np.interp(x, line.x_m, line.pressure_Pa)
-    sl = np.interp(x, line.x_m, line.pressure_sd_Pa)
-    pm, sm = inv.pressure_Pa[:, 0], inv.pressure_sd_Pa[:, 0]
-    c = p1 > 0
-    assert np.mean(np.abs(pm - pl)[c] <= 2 * np.hypot(sm, sl)[c]) >= 0.9
     r, rl = inv.summary(), line.summary()
     Ly = ny * 0.25 * H
     assert abs(r["force_N"] / Ly - rl["load_N_per_m"]) < 2 * math.hypot(
@@ -170,6 +187,11 @@ def test_y_invariant_equals_line():
     P = p1.sum() * 0.25 * H
     assert r["force_N"] / Ly == pytest.approx(P, rel=0.01)
     assert rl["load_N_per_m"] == pytest.approx(P, rel=0.01)
+    pl = np.interp(x, line.x_m, line.pressure_Pa)
+    pm = inv.pressure_Pa.mean(axis=1)
+    c = p1 > 0
+    assert np.linalg.norm((pm - pl)[c]) <= 0.12 * np.linalg.norm(p1[c])
+    assert np.max(np.abs(pm - pl)[c]) <= 0.2 * p1.max()
 
 
 def test_sensor_view():

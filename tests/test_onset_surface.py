@@ -1,4 +1,4 @@
-"""Partial slip of a sphere on the film, one load step at a time (numerics.partial_slip2d):
+"""Partial slip of a sphere on the film, one load step at a time (numerics.partial_slip):
 the surface core of issue 22 (the sphere's driver, CLI and result are not written yet).
 
 In the half-space limit (a/h = 0.1) the stick zone follows Mindlin's c = a (1 - Q/(mu P))^(1/3)
@@ -17,7 +17,7 @@ import pytest
 
 from spectral_contact.numerics.contact import solve_contact
 from spectral_contact.numerics.grid import Grid
-from spectral_contact.numerics.partial_slip2d import (
+from spectral_contact.numerics.partial_slip import (
     PartialSlipOperator2D,
     SlipState2D,
     solve_slip_step_2d,
@@ -105,3 +105,105 @@ def test_sphere_onset_front_door(tmp_path, capsys):
                  "--profiles", str(out)]) == 0
     rec = json.loads(capsys.readouterr().out)
     assert len(rec["steps"]) == 2 and out.exists()
+
+
+@pytest.fixture(scope="module")
+def sphere_pair():
+    """A sphere's onset at mu = +-1 on one fixed 48^2 grid centred on the apex (so that
+    x -> -x maps the grid onto itself): 4 tangential steps after 2 frictional loading steps."""
+    from spectral_contact import onset
+    from spectral_contact.physics.scene import Scene3D
+
+    sc = Scene3D(indenter="sphere", force=1.0, mu=1.0)
+    kw = dict(steps=4, loading_steps=2, grid_points=48, domain_length=10.0 * sc.length_unit)
+    return onset(sc, **kw), onset(sc.with_(mu=-1.0), **kw)
+
+
+def test_sphere_mirror_mu(sphere_pair):
+    """mu -> -mu: every step mirrored in x: p(x, y) and q_y the same at -x, q_x and the slip
+    along x with the opposite sign, the stick zone mirrored node for node, delta_x negated."""
+    r, m = sphere_pair
+    nx, ny = r.grid.shape
+    i = (nx - np.arange(nx)) % nx  # node i of one grid is node nx - i of the other
+    x, Lx = r.grid.axes[0], r.grid.lengths[0]  # (the same node modulo the period)
+    assert np.allclose(np.mod(x[i] + x + 0.5 * Lx, Lx) - 0.5 * Lx, 0.0, atol=1e-9)
+    dmax = max(abs(mm["delta"]) for mm in r.measures)
+    for k in range(len(r.states)):
+        a, b = r.maps(k), m.maps(k)
+        scale = a["pressure_Pa"].max()
+        assert np.abs(b["pressure_Pa"][i] - a["pressure_Pa"]).max() <= 1e-8 * scale
+        assert np.abs(b["shear_x_Pa"][i] + a["shear_x_Pa"]).max() <= 1e-8 * scale
+        assert np.abs(b["shear_y_Pa"][i] - a["shear_y_Pa"]).max() <= 1e-8 * scale
+        assert np.array_equal(b["stick"][i], a["stick"])
+        assert abs(m.measures[k]["delta"] + r.measures[k]["delta"]) <= 1e-7 * dmax
+    assert r.measures[2]["stick_nodes"] > 1 and abs(r.measures[2]["delta"]) > 0
+
+
+def test_sphere_law_equilibrium_monotonic(sphere_pair):
+    """Every step of the front door's loading (both signs): |q| <= |mu| p at every node and
+    |q| = |mu| p on the slip nodes to the accepted residual (1e-2 tol x |mu| p_max: on a
+    surface the shear across the slip direction is solved, |q| exceeds |mu| p by its square),
+    the reported Coulomb residual the measured one, the loads to 1e-8, the stick area never
+    growing and the tangential displacement growing (along Q) from step to step."""
+    for r in sphere_pair:
+        g, mu, P = r.grid, abs(r.scene.mu), r.scene.P
+        accept = 1e-2 * r.tol
+        for k, s in enumerate(r.states):
+            qn = np.hypot(*s.q)
+            pmax = s.p.max()
+            excess = max(float((qn - mu * s.p).max()), 0.0) / (mu * pmax)
+            assert excess <= accept
+            assert excess == pytest.approx(s.residuals["coulomb"], rel=1e-6, abs=1e-15)
+            slip = s.contact & ~s.stick
+            assert np.allclose(qn[slip], mu * s.p[slip], rtol=0, atol=accept * mu * pmax)
+            assert abs(g.cell * s.p.sum() - P) <= 1e-8 * P
+            Q = g.cell * s.q.sum(axis=1)
+            assert Q[0] == pytest.approx(r.scene.mu * P * r.Q_over_muP[k], abs=1e-8 * mu * P)
+            assert abs(Q[1]) <= 1e-8 * mu * P
+        areas = [mm["stick_area"] for mm in r.measures[1:]]
+        assert all(b <= a for a, b in zip(areas, areas[1:]))
+        d = [np.sign(r.scene.mu) * mm["delta"] for mm in r.measures]
+        assert all(b > a for a, b in zip(d, d[1:]))
+
+
+def test_sphere_maps_sensor_profiles(tmp_path, capsys):
+    """``onset --maps`` (one NPZ, a step axis), ``--sensor`` and ``--profiles`` for a sphere:
+    the NPZ's y = 0 line is the CSV's, the sensor maps are solve's 2D apparatus applied to each
+    step's base maps; --maps on a line: one line, exit 2, nothing written."""
+    import pandas as pd
+
+    from spectral_contact.cli.main import main
+    from spectral_contact.instruments.sensor import sensor_maps
+
+    npz, csv = tmp_path / "m.npz", tmp_path / "p.csv"
+    assert main(["onset", "--indenter", "sphere", "--force", "1", "--steps", "2",
+                 "--loading-steps", "1", "--grid-points", "48", "--sensor", "--maps", str(npz),
+                 "--profiles", str(csv)]) == 0
+    z = np.load(npz)
+    nx, ny = z["x_m"].size, z["y_m"].size
+    assert z["pressure_Pa"].shape == z["S_zz_Pa"].shape == z["stick"].shape == (3, nx, ny)
+    assert list(z["Q_over_muP"]) == [0.0, 0.5, 1.0]
+    d = pd.read_csv(csv)
+    j = int(np.argmin(np.abs(z["y_m"])))
+    for k in range(3):
+        row = d[d.step == k]
+        assert np.allclose(row.pressure_Pa, z["pressure_Pa"][k][:, j])
+        assert np.allclose(row.shear_Pa, z["shear_x_Pa"][k][:, j])
+        assert np.allclose(row.S_zz_Pa, z["S_zz_Pa"][k][:, j])
+
+    class Step:  # one step's base maps, as solve's 3D result offers them
+        scene = None
+
+    from spectral_contact import onset
+
+    r = onset(indenter="sphere", force=1.0, steps=2, loading_steps=1, grid_points=48)
+    st = Step()
+    st.scene, st.domain_length = r.scene, r.grid.lengths
+    st.maps = lambda: {k: v for k, v in r.maps(2).items() if k.startswith(("x_", "y_", "base_"))}
+    assert np.allclose(sensor_maps(st)["S_xz_Pa"], z["S_xz_Pa"][2])
+    capsys.readouterr()
+    bad = tmp_path / "line.npz"
+    assert main(["onset", "--steps", "2", "--maps", str(bad)]) == 2
+    assert not bad.exists()
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--maps" in err

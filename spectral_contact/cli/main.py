@@ -11,6 +11,7 @@ import argparse
 import importlib
 import math
 import os
+import re
 import sys
 import threading
 
@@ -32,6 +33,15 @@ def _plugins():
 
 
 class _Parser(argparse.ArgumentParser):
+    # a negative number in any notation is a value, not an option: `--mu -1e-3`, `--mu -inf`
+    # (Python < 3.13's argparse took "-1e-3" for an option: "expected one argument")
+    # (as 3.13 does; a sweep's list or range `-1e-1,2`, `-1:1:0.5` too)
+    _NEGATIVE = re.compile(r"^-\.?\d|^-(inf|infinity|nan)\b", re.IGNORECASE)
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = self._NEGATIVE
+
     def error(self, message):  # one line, exit status 2
         raise InputError(f"{self.prog}: {message}")
 

@@ -29,6 +29,7 @@ _NOTES = {
     "base_sigma_xz_Pa": "shear stress at the rigid base sigma_xz(x, 0) [Pa]",
     "S_zz_Pa": "MEMS view S_zz = -G_zz (*) sigma_zz(x, 0) [Pa], > 0 in compression",
     "S_xz_Pa": "MEMS view S_xz = G_xz (*) sigma_xz(x, 0) [Pa]",
+    "S_yz_Pa": "MEMS view S_yz = G_xz (*) sigma_yz(x, y, 0) [Pa]",
 }
 
 
@@ -67,7 +68,13 @@ def register(subparsers) -> None:
     p.add_argument("--plot", metavar="FILE.png", help="plot the loading")
     p.add_argument("--sensor", action="store_true",
                    help="add the MEMS view S_zz, S_xz (the paper's apparatus functions) to "
-                        "--profiles and --plot")
+                        "--profiles and --plot (spheres: the 2D apparatus, as solve; the "
+                        "y = 0 line in --profiles, S maps in --maps)")
+    p.add_argument("--maps", metavar="FILE.npz", default=None,
+                   help="3D indenters: every step's surface and base maps in one NPZ (SI, "
+                        "arrays [step, x, y]; keys as solve --maps writes them, plus "
+                        "shear_x_Pa, shear_y_Pa, slip_x_m, slip_y_m, stick, contact, step, "
+                        "Q_over_muP)")
     p.set_defaults(func=_cmd_onset)
 
 
@@ -86,6 +93,29 @@ def _sensor(r) -> dict:
         zz.append(v["S_zz_Pa"])
         xz.append(v["S_xz_Pa"])
     return {"S_zz_Pa": np.array(zz), "S_xz_Pa": np.array(xz)}
+
+
+class _Step:
+    """One step's maps in the form ``instruments.sensor.sensor_maps`` reads (a 3D result)."""
+
+    def __init__(self, r, maps, k):
+        self.scene, self.domain_length = r.scene, r.grid.lengths
+        self._maps = {key: (v if key in ("x_m", "y_m") else v[k]) for key, v in maps.items()
+                      if key.startswith(("x_", "y_", "base_"))}
+
+    def maps(self):
+        return self._maps
+
+
+def _sensor3d(r, maps) -> dict:
+    """S_zz, S_xz, S_yz [Pa] and U [mV] maps per step (a leading step axis) of a 3D onset,
+    through the paper's 2D apparatus functions on the solver's periodic grid (as solve)."""
+    import numpy as np
+
+    from ..instruments.sensor import sensor_maps
+
+    per = [sensor_maps(_Step(r, maps, k)) for k in range(len(r.states))]
+    return {key: np.stack([v[key] for v in per]) for key in ("S_zz_Pa", "S_xz_Pa", "S_yz_Pa")}
 
 
 def _text(r) -> str:
@@ -142,8 +172,9 @@ def _cmd_onset(args) -> int:
     if indenter not in ("line", "sphere", "paraboloid"):
         raise InputError(f"--indenter {indenter}: onset takes line, sphere or paraboloid "
                          f"(smooth indenters)")
-    if indenter != "line" and args.sensor:
-        raise InputError("--sensor: onset's MEMS view is for the line indenter only")
+    if indenter == "line" and args.maps is not None:
+        raise InputError("--maps is for 3D indenters (--indenter sphere, paraboloid); lines "
+                         "write their profiles with --profiles")
     law = given.get("friction_law", "amontons")
     if law != "amontons":
         raise InputError(f"--friction-law {law}: onset takes amontons only "
@@ -165,7 +196,8 @@ def _cmd_onset(args) -> int:
     if scene.mu == 0:
         raise InputError("--mu must be != 0 for onset (the tangential load goes up to mu P)")
     outputs = plan_outputs(csvs=("--profiles",), plots=("--plot",),
-                           **{"--profiles": args.profiles, "--plot": args.plot})
+                           **{"--profiles": args.profiles, "--plot": args.plot,
+                              "--maps": args.maps})
 
     tty = sys.stderr is not None and sys.stderr.isatty()
 
@@ -183,7 +215,19 @@ def _cmd_onset(args) -> int:
     if not r.tolerance_met:
         print(f"warning: error estimate {max(r.error_estimates):.1e} > --tol at the fixed "
               f"--grid-points {args.grid_points} (JSON: \"tolerance_met\": false)", file=sys.stderr)
-    view = _sensor(r) if args.sensor else None
+    maps = r.maps() if indenter != "line" and (args.sensor or args.maps) else None
+    view = None
+    if args.sensor:
+        view = _sensor(r) if indenter == "line" else _sensor3d(r, maps)
+
+    def write_maps(path):
+        import numpy as np
+
+        arrays = dict(maps)
+        arrays.update(view or {})
+        with open(path, "wb") as fh:  # a handle: no ".npz" added
+            np.savez(fh, **arrays)
+
     record = r.summary()
     write_outputs(outputs, {  # stdout with the files, or nothing
         "--profiles": csv_file(lambda: r.profiles(sensor=view), lambda cols: {
@@ -191,6 +235,7 @@ def _cmd_onset(args) -> int:
             "columns": {k: _NOTES[k] for k in cols},
             "result": record}),
         "--plot": staged(lambda path: r.plot(sensor=view).savefig(path, dpi=120)),
+        "--maps": staged(write_maps),
     }, lambda: (to_json(record) if args.json else
                 (_text(r) if indenter == "line" else _text3d(r))))
     return 0

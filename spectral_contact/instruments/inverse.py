@@ -31,7 +31,12 @@ window (three starts), then nodes every h/16 on the window +- 1.5 h (the tractio
 beyond: the prior's statement), with a scan of each edge against a second maximum of the
 evidence.  ``prior="envelope"``: the previous prior (Matern-1/2 processes inside an
 evidence-placed logistic envelope, nodes every h/8 over the record +- ``MARGIN_H`` h), kept for
-tractions that are not a contact's (no square-root edges).
+tractions that are not a contact's (no square-root edges).  The evidence can have two maxima of
+nearly equal height (a rigid p with the shape's detail in the varying-mu part, or a flexible p
+with a smooth mu): the second pass is restarted from a flexible and a rigid p, and the posteriors
+of the distinct maxima within 5 nats of the best are mixed with weights exp(log-evidence)
+(``regularisation.evidence_maxima``); one maximum alone gave 2-sd coverage of p near 0.5 on the
+varying-mu records.
 
 Posterior.  Gaussian given the hyperparameters; with ``hyper=True`` (default, contact prior)
 the hyperparameters' own uncertainty is added to first order (Laplace: S + J Sigma_theta J^T,
@@ -67,7 +72,7 @@ import math
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, named
 from ..physics.film import Film
 from .inverse_evidence import (  # noqa: F401  (re-exported)
     ENVELOPE_EDGE_MIN_H,
@@ -159,6 +164,27 @@ def _bin(x, zz, xz, step):
             xz[:n].reshape(-1, k).mean(axis=1), k)
 
 
+def _mix_modes(ev, modes, free, hyper, h, known):
+    """Posterior mean and covariance mixed over the evidence's maxima (weights exp(log-evidence),
+    normalised), each with its hyperparameters' uncertainty propagated when ``hyper``; the
+    windows [(edges [m], edge sd [m])] and the weights."""
+    les = np.array([le for _, le in modes])
+    wts = np.exp(les - les.max())
+    wts /= wts.sum()
+    means, covs, windows = [], [], []
+    for th, _ in modes:
+        _, (mk, ck, _) = ev.evaluate(th, full=True)
+        sig, idx = None, []
+        if hyper:
+            mk, ck, sig, idx = propagate(ev, th, free, mk, ck)
+        means.append(mk)
+        covs.append(ck)
+        windows.append(_window_interval(th, sig, idx, h, known))
+    mbar = sum(w * mk for w, mk in zip(wts, means))
+    cov = sum(w * (ck + np.outer(mk - mbar, mk - mbar)) for w, mk, ck in zip(wts, means, covs))
+    return mbar, cov, windows, wts
+
+
 def _window_interval(theta, sig, idx, h, known):
     """The contact prior's window [c - w0, c + w0] [m] and the sd of its two edges from the
     Laplace covariance of (c, log w0) (NaN where not propagated or at a bound; 0 if known)."""
@@ -192,7 +218,32 @@ def _check_record(x_m, zz, xz):
         raise InputError("x_m must be strictly increasing and uniformly spaced (within 0.1 %)")
     if not np.any(zz) and not np.any(xz):
         raise InputError("the record is zero everywhere: nothing to invert")
+    big = max(float(np.max(np.abs(zz))), float(np.max(np.abs(xz))))
+    if not VALUE_RANGE_PA[0] <= big <= VALUE_RANGE_PA[1]:
+        raise InputError(f"the record's largest |stress| is {big:.3g} Pa: the inversion takes "
+                         f"{VALUE_RANGE_PA[0]:g} ... {VALUE_RANGE_PA[1]:g} Pa")
     return x, zz, xz
+
+
+VALUE_RANGE_PA = (1e-100, 1e100)
+"""The largest |stress| of a record the inversion takes (subnormal or huge values are refused:
+the evidence squares them)."""
+SPAN_RANGE_H = (0.5, 100.0)
+"""The record's x span, in film thicknesses, that the inversion takes (beyond 100 h its traction
+nodes, h/8 apart, make matrices of > 1 GB; below 0.5 h the record sees no contact; x in
+millimetres under an ``x_m`` header falls outside)."""
+
+
+def _check_span(x, h):
+    """The record's span and step against the film thickness h [m] (``SPAN_RANGE_H``; a step
+    of at most h, the scale on which base stresses vary)."""
+    span, step = float(x[-1] - x[0]), float(x[1] - x[0])
+    lo, hi = SPAN_RANGE_H
+    if not lo * h <= span <= hi * h or step > h:
+        raise InputError(f"x_m spans {span:.3g} m in steps of {step:.3g} m, i.e. {span / h:.3g} "
+                         f"film thicknesses ({named('thickness')} {h:g} m): the inversion takes "
+                         f"records spanning {lo:g} ... {hi:g} thicknesses with a step of at most "
+                         f"one (is x in metres, the thickness right?)")
 
 
 def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float = 0.5,
@@ -212,6 +263,7 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
     h = check_positive("thickness", thickness, "m")
     nu = check_poisson(poisson)
     x, dz, dxz = _check_record(x_m, zz_Pa, xz_Pa)
+    _check_span(x, h)
     if prior not in ("contact", "envelope"):
         raise InputError(f"prior must be 'contact' or 'envelope'; got {prior!r}")
     if view not in ("base", "sensor"):
@@ -228,6 +280,11 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
         a, b = (float(s) for s in support)
         if not (math.isfinite(a) and math.isfinite(b) and b > a):
             raise InputError(f"support must be an interval (a, b) with b > a [m]; got {support}")
+        lo, hi = x[0] - MARGIN_H * h, x[-1] + MARGIN_H * h  # where the tractions are modelled
+        if a < lo or b > hi:
+            raise InputError(f"{named('support')} {a:g} {b:g}: the known contact must lie within "
+                             f"the record extended by {MARGIN_H:g} thicknesses, [{lo:.6g}, "
+                             f"{hi:.6g}] m")
         sup_h = (a / h, b / h)
     points = x.size
     x, dz, dxz, nbin = _bin(x, dz, dxz, BIN_STEP_H * h)
@@ -237,11 +294,10 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
     symbols = _symbols(apparatus, h)
     zs, xs = dz / scale, dxz / scale
     if prior == "contact":
-        fwd, ev, theta, logev, free = fit_contact(xh, film, symbols, zs, xs, sup_h)
+        fwd, ev, modes, free = fit_contact(xh, film, symbols, zs, xs, sup_h)
         m = fwd.nodes.size
-        _, (mean, cov, H) = ev.evaluate(theta, full=True)
-        if hyper:
-            cov, sig_theta, hyper_idx = propagate(ev, theta, free, mean, cov)
+        theta, logev = modes[0]
+        mean, cov, windows, weights = _mix_modes(ev, modes, free, hyper, h, sup_h)
         nz, nx = np.exp(theta[10:12])
     else:
         fwd = LineForward.build(xh, film, symbols, support=sup_h)
@@ -274,8 +330,12 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
                                                       0.0)) / np.abs(p), np.nan)
     if prior == "contact":
         # the contact interval is the prior's window, with its Laplace sd
-        interval, interval_sd = _window_interval(theta, sig_theta if hyper else None,
-                                                 hyper_idx if hyper else [], h, sup_h)
+        e = np.array([w[0] for w in windows])
+        v = np.array([w[1] for w in windows]) ** 2
+        ebar = weights @ e
+        interval = [float(ebar[0]), float(ebar[1])]
+        interval_sd = [float(math.sqrt(max(weights @ (v[:, i] + (e[:, i] - ebar[i]) ** 2), 0.0)))
+                       for i in (0, 1)]
     else:  # contact interval from posterior draws
         interval, interval_sd = _contact_interval(fwd.nodes * h, p, cov_si[:m, :m], sp_, draws,
                                                   seed)
@@ -307,6 +367,12 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
            "support_m": None if support is None else [float(s) for s in support],
            "resolved_rule": f"mu_local where p > {RESOLVED_Z:g} sd(p)",
            "thickness_m": h, "poisson": nu, "laws": laws}
+    if prior == "contact":
+        rec["regularisation"]["evidence_maxima"] = [
+            {"log_evidence_below_best": float(logev - le), "weight": float(wt),
+             "length_p_m": float(math.exp(th[3]) * h), "mu0": float(th[4]),
+             "window_m": [float(w_[0][0]), float(w_[0][1])]}
+            for (th, le), wt, w_ in zip(modes, weights, windows)]
     data = {"x_m": x, "zz": dz, "xz": dxz, "zz_fit": fz * scale, "xz_fit": fx * scale}
     return LineInversion(fwd.nodes * h, p, sp_, q, sq_, mu, mu_sd, rec, data, cov_si)
 

@@ -40,7 +40,9 @@ log-hyperparameters (central differences of the analytic gradient), its inverse 
 (the Laplace approximation to their posterior under a flat prior), the Jacobian J of the
 posterior mean of the tractions with respect to them (central differences) and returns the
 covariance S + J Sigma_theta J^T: the first-order total variance of the tractions once the
-hyperparameters are integrated over rather than fixed at their maximum.
+hyperparameters are integrated over rather than fixed at their maximum.  A length at a bound
+of its search (l_p at 20 h, the evidence flat toward an infinitely smooth p) is integrated on a
+grid instead (``propagate``).
 """
 from __future__ import annotations
 
@@ -263,7 +265,8 @@ def _bounds(ev: ContactPrior, scale, noise_floor=None):
     return lo, hi
 
 
-def optimise_contact(ev: ContactPrior, dz, dx, window=None, start=None, noise_floor=None):
+def optimise_contact(ev: ContactPrior, dz, dx, window=None, start=None, noise_floor=None,
+                     gtol=1e-4, starts=(0.7, 1.0, 1.4)):
     """Maximum of the log-evidence over the hyperparameters (L-BFGS-B, analytic gradient).
     Starts: the window from the data (where d_zz exceeds a quarter of its peak, narrowed by the
     film's spread) or ``window`` (c, w0) [h]; mu0 from the ratio of the data's integrals; the
@@ -294,7 +297,7 @@ def optimise_contact(ev: ContactPrior, dz, dx, window=None, start=None, noise_fl
         else:
             a0, b0 = float(x[0]), float(x[-1])
         c0, w00 = 0.5 * (a0 + b0), max(0.5 * (b0 - a0) - 0.5, 2.0 * ev.dt)
-        widths = tuple(w00 * f for f in (0.7, 1.0, 1.4))
+        widths = tuple(w00 * f for f in starts)
     nz0 = min(max(_noise_guess(dz), 1e-4 * scale), 0.3 * scale)
     nx0 = min(max(_noise_guess(dx), 1e-4 * scale), 0.3 * scale)
     Iz, Ix = float(np.sum(dz)), float(np.sum(dx))
@@ -327,7 +330,7 @@ def optimise_contact(ev: ContactPrior, dz, dx, window=None, start=None, noise_fl
             return -v, -g[free]
 
         minimize(f, th0[free], jac=True, method="L-BFGS-B", bounds=list(zip(lo[free], hi[free])),
-                 options={"maxiter": 400, "ftol": 1e-11, "gtol": 1e-4})
+                 options={"maxiter": 400, "ftol": 1e-11, "gtol": gtol})
         if seen[0] is not None and (best is None or seen[1] > best[1]):
             best = (seen[0], seen[1])
     if best is None:
@@ -359,17 +362,49 @@ def _scan_edges(ev: ContactPrior, th, reach=1.0, step=0.125):
 
 
 def propagate(ev: ContactPrior, theta, free, mean, S, step=1e-3):
-    """Covariance of the nodal tractions with the hyperparameters integrated over (Laplace):
-    S + J Sigma_theta J^T (module docstring).  Hyperparameters at a bound of the search are held
-    fixed (their Laplace width is not defined there).  Returns (covariance, Sigma_theta over the
-    free hyperparameters, their indices)."""
+    """The nodal tractions' mean and covariance with the hyperparameters integrated over.
+
+    Interior hyperparameters: Laplace, S + J Sigma_theta J^T (module docstring).  A length (l_p,
+    l_r) at a bound of the search (typically l_p at 20 h: the evidence is flat toward an
+    infinitely smooth p, where the Laplace width is not defined) is integrated numerically
+    instead: a log-uniform prior on a grid of ``BOUND_GRID`` in log l inward from the bound,
+    each point's posterior weighted by its evidence (the other hyperparameters held); the
+    mixture's mean and covariance (within plus between the points) replace the fixed-l ones.
+    Other hyperparameters at a bound are held.  Returns (mean, covariance, Sigma_theta over the
+    interior hyperparameters, their indices)."""
     lo, hi = _bounds(ev, 1.0)
     # bounds were made for the scaled data: scale 1 is the data's scale in the core
     idx = [k for k in np.nonzero(free)[0]
            if lo[k] + 1e-6 < theta[k] < hi[k] - 1e-6]
+    mean_out, S_out = mean.copy(), S.copy()
+    for k in (3, 6):
+        if not free[k] or k in idx:
+            continue
+        inward = -1.0 if theta[k] >= hi[k] - 1e-6 else 1.0
+        vals = theta[k] + inward * BOUND_GRID
+        vals = vals[(vals >= lo[k] - 1e-9) & (vals <= hi[k] + 1e-9)]
+        les, ms, Ss = [], [], []
+        for v in vals:
+            t = theta.copy()
+            t[k] = v
+            try:
+                le, (mk, Sk, _) = ev.evaluate(t, full=True)
+            except np.linalg.LinAlgError:
+                continue
+            les.append(le)
+            ms.append(mk)
+            Ss.append(Sk)
+        if len(les) < 2:
+            continue
+        wts = np.exp(np.array(les) - max(les))
+        wts /= wts.sum()
+        mbar = sum(w * mk for w, mk in zip(wts, ms))
+        Smix = sum(w * (Sk + np.outer(mk - mbar, mk - mbar)) for w, mk, Sk in zip(wts, ms, Ss))
+        mean_out += mbar - mean
+        S_out += Smix - S
     d = len(idx)
     if d == 0:
-        return S, np.zeros((0, 0)), idx
+        return mean_out, S_out, np.zeros((0, 0)), idx
     Hs = np.zeros((d, d))
     J = np.zeros((mean.size, d))
     for a, k in enumerate(idx):
@@ -385,7 +420,11 @@ def propagate(ev: ContactPrior, theta, free, mean, S, step=1e-3):
     # a direction of non-positive curvature (a flat evidence) carries no Laplace width: drop it
     keep = w > 1e-8 * max(float(w.max()), 1e-300)
     Sig = (V[:, keep] / w[keep]) @ V[:, keep].T
-    return S + J @ Sig @ J.T, Sig, idx
+    return mean_out, S_out + J @ Sig @ J.T, Sig, idx
+
+
+BOUND_GRID = np.arange(0.0, 4.01, 0.5)
+"""Steps in log(length) inward from a bound at which ``propagate`` integrates a length."""
 
 
 COARSE_STEP_H = 0.25
@@ -393,15 +432,22 @@ COARSE_STEP_H = 0.25
 FINE_STEP_H = 1.0 / 16.0
 """Node step [h] of the second pass (the square-root edges want nodes finer than the film's
 resolution: h/8 leaves 1-2 % of L2 error and biased windows that h/16 removes)."""
-EDGE_SPAN_H = 1.5
+PASS1_STARTS = (0.7, 1.0, 1.4)
+"""Window widths (times the data's) the first pass starts from (one start wandered off to a
+window outside the contact on the solver's clean 8192-sample record); an edge scan follows."""
+EDGE_SPAN_H = 0.75
 """The second pass's nodes cover the first pass's window widened by this [h] on each side;
 the tractions are zero beyond (the contact prior's own statement, bar its nugget)."""
 
 
 def fit_contact(xh, film, symbols, zs, xs, support=None):
-    """Two passes: coarse nodes over the record +- MARGIN_H (the window's search, three starts),
-    then fine nodes on the window +- EDGE_SPAN_H from the first pass's optimum.  Returns
-    (forward map, ContactPrior, theta, log-evidence, free mask)."""
+    """Two passes: coarse nodes over the record +- MARGIN_H (the window's search, three starts,
+    an edge scan), then fine nodes on the window +- EDGE_SPAN_H from the first pass's optimum,
+    an edge scan, and ``MODE_STARTS``: the evidence can have two maxima of nearly equal height,
+    one with a rigid p (l_p at its bound) and the shape's detail put in the varying-mu part, one
+    with a flexible p and a smooth mu (the data do not tell them apart); every distinct maximum
+    within ``MODE_NATS`` of the best is returned, for ``invert_line`` to mix by evidence.
+    Returns (forward map, ContactPrior, [(theta, log-evidence), ...] best first, free mask)."""
     from .inverse_forward import MARGIN_H, LineForward
 
     if support is not None:
@@ -409,10 +455,16 @@ def fit_contact(xh, film, symbols, zs, xs, support=None):
                                 step=min(FINE_STEP_H, (support[1] - support[0]) / 8))
         ev = ContactPrior(fwd, zs, xs, known=True)
         th, le, free = optimise_contact(ev, zs, xs)
-        return fwd, ev, th, le, free
+        modes = [(th, le)]
+        for lp in MODE_STARTS:
+            t = th.copy()
+            t[3] = math.log(lp)
+            modes.append(optimise_contact(ev, zs, xs, start=t)[:2])
+        return fwd, ev, _distinct(modes), free
     fwd = LineForward.build(xh, film, symbols, step=COARSE_STEP_H)
     ev = ContactPrior(fwd, zs, xs)
-    th, le, free = optimise_contact(ev, zs, xs)
+    th, le, free = optimise_contact(ev, zs, xs, gtol=1e-2, starts=PASS1_STARTS)
+    th, le = _scan_edges(ev, th, reach=1.5, step=0.25)
     c, w0 = th[0], math.exp(th[1])
     lo = max(c - w0 - EDGE_SPAN_H, xh[0] - MARGIN_H)
     hi = min(c + w0 + EDGE_SPAN_H, xh[-1] + MARGIN_H)
@@ -424,4 +476,30 @@ def fit_contact(xh, film, symbols, zs, xs, support=None):
         if v2 <= le + 0.01:
             break
         th, le, free = optimise_contact(ev, zs, xs, start=t2)
-    return fwd, ev, th, le, free
+    modes = [(th, le)]
+    for lp in MODE_STARTS:
+        t = th.copy()
+        t[3] = math.log(lp)
+        modes.append(optimise_contact(ev, zs, xs, start=t)[:2])
+    return fwd, ev, _distinct(modes), free
+
+
+MODE_STARTS = (1.0, 20.0)
+"""l_p [h] from which the second pass is started again (a flexible and a rigid p)."""
+MODE_NATS = 5.0
+"""Maxima of the evidence this far below the best (weight e^-5 < 1 %) are dropped."""
+
+
+def _distinct(modes):
+    """Distinct maxima (window edges apart by > 0.01 h or l_p by > 5 %, or evidence by > 0.01),
+    within MODE_NATS of the best, best first."""
+    modes = sorted(modes, key=lambda m: -m[1])
+    out = []
+    for th, le in modes:
+        if le < modes[0][1] - MODE_NATS:
+            continue
+        same = any(abs(le - l2) < 0.01 and abs(th[0] - t2[0]) < 0.01 and abs(th[1] - t2[1]) < 0.01
+                   and abs(th[3] - t2[3]) < 0.05 for t2, l2 in out)
+        if not same:
+            out.append((th, le))
+    return out

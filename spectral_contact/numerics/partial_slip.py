@@ -1,13 +1,15 @@
-"""Incremental Coulomb contact (partial slip) on the film: one load step (dimensionless core).
+"""Incremental Coulomb contact (partial slip) on the film: one load step, for a line (1D grid)
+and a surface (2D grid) alike (dimensionless core).
 
 A rigid indenter of heights ``f`` (above its apex) is pressed with the normal load P and pulled
-with the tangential load Q; the indenter moves rigidly by the indentation d (down) and the
-tangential displacement delta (along +x).  The film's surface, loaded by the pressure p
-(p >= 0, p = -sigma_zz(h)) and the shear q (= sigma_xz(h): q > 0 drags the surface toward +x),
-sinks by w and moves tangentially by u, both from the film's coupled surface compliance
-(``Film.surface_displacement_transfer``: the 2 x 2 symbol [[F0, i F1], [-i F1, F2]] / 2|k| in
-1D, units 1/G; its coupling F1 makes a pressure move the surface tangentially and a shear sink
-it, unlike on an incompressible half-space).
+with the tangential load Q (a number on a line, (Q_x, Q_y) on a surface); it moves rigidly by
+the indentation d (down) and the tangential displacement delta.  The film's surface, loaded by
+the pressure p (p >= 0, p = -sigma_zz(h)) and the shear q (= sigma_xz(h), and sigma_yz(h) on a
+surface: q > 0 drags the surface toward +x), sinks by w and moves tangentially by u, both from
+the film's coupled compliance (``Film.surface_displacement_transfer``: the (1 + D) x (1 + D)
+symbol, D = 1 or 2 tangential components, units 1/G; its pressure-shear coupling (F1) makes a
+pressure move the surface tangentially and a shear sink it, unlike on an incompressible
+half-space).
 
 Coulomb's law in incremental (quasi-static, history-dependent) form, from the state n of the
 previous step (u_n, delta_n) to this one:
@@ -15,20 +17,34 @@ previous step (u_n, delta_n) to this one:
 * contact C: gap = f - d + w = 0, p >= 0; outside: gap >= 0, p = 0, q = 0;
 * slip increment of the indenter relative to the surface: s = (delta - delta_n) - (u - u_n);
 * stick nodes (S, in C): s = 0, |q| <= |mu| p;
-* slip nodes (C \\ S): q = sigma |mu| p with sigma = +-1 the sign of s (q drags the surface the
-  way the indenter slips over it);
+* slip nodes (C \\ S): q = |mu| p t with t the unit vector of s (on a line t = sigma = +-1);
 * cell * sum p = P, cell * sum q = Q (these fix d and delta).
 
-The sets (C, S, sigma) are found by a primal-dual active-set iteration (a semismooth Newton
-method for the two complementarity conditions), as ``numerics.contact`` does for the normal
-problem; for fixed sets the bordered linear system in (p on C, q on S, d, delta) is solved by
-right-preconditioned GMRES (``numerics.krylov``).  The preconditioner is the inverse of the 2 x 2
-symbol clipped below k_c = pi / W (W the contact's width: the same order-0 argument as
-``FourierOperator.preconditioner``), masked to the sets.  One matrix-vector product is two FFT
-pairs (p and q through the 2 x 2 symbol), one preconditioner application two more.
+The sets (C, S, t) are found by a primal-dual active-set iteration (a semismooth Newton method
+for the complementarity conditions, as ``numerics.contact`` does for the normal problem); for
+fixed sets the bordered linear system in (p on C, q on S, d, delta) is solved by
+right-preconditioned GMRES (``numerics.krylov``).  On a surface the slip direction is solved,
+not assumed along Q: the system also holds, on each slip node, the shear r across t
+(q = |mu| p t + r t_perp) and the Newton linearisation of "s parallel to q" across t,
+(|s|/(|mu| p)) r = s . t_perp (|s|, p of the last iteration; a node that has just begun to slip
+keeps s along t); t is then turned to q/|q| until the change this makes in q, |mu| p |dt|, is
+below ``dir_tol`` |mu| p_max (default: the accepted residual) and the largest turn below
+sqrt(dir_tol), the inner tolerance following the turn (inexact Newton).  Set updates: a stick
+node whose |q| exceeds |mu| p slips along q/|q|; a slip node whose s points against t sticks;
+a node coming into contact slips along its s (it sticks at a later iteration if that
+reverses).  A cycle of the sets is retried at the full inner tolerance, then with one change of
+each kind per iteration, then accepted as a one-node stick-slip boundary if its friction-law
+violation is below ``_MARGINAL``.
+
+The preconditioner is the inverse symbol clipped below k_c = pi / W (W the contact's width:
+the same order-0 argument as ``FourierOperator.preconditioner``), masked to the sets; on the
+rows across t it is scaled by a0/(a0 + |s|/(|mu| p)), a0 the operator's diagonal (the Newton
+term is a diagonal D: (A + D)^-1 ~ (1 + D/a0)^-1 A^-1).  One matrix-vector product is one
+batched transform of the 1 + D fields (1 + D FFT pairs), one preconditioner application the
+same.
 
 When no node would stick (|Q| = |mu| P: gross sliding) the iteration keeps the most stuck node
-of the previous stick set: the sum of q then forces q = sigma |mu| p there too, so the state is
+of the previous stick set: the sum of q then forces q = |mu| p Q/|Q| there too, so the state is
 the steady sliding one (q = mu p everywhere) and delta stays defined (the limit of the partial
 slip states).
 """
@@ -40,12 +56,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ConvergenceError
-from ..physics.film import Film
-from .fft import get_rfft
-from .grid import Grid
 from .krylov import gmres
+from .slip_operator import PartialSlipOperator, PartialSlipOperator2D
 
-__all__ = ["SlipState", "PartialSlipOperator", "solve_slip_step"]
+__all__ = ["SlipState", "SlipState2D", "PartialSlipOperator", "PartialSlipOperator2D",
+           "solve_slip_step", "solve_slip_step_2d"]
 
 _SET_TOL = 1e-9  # relative margins of the set updates (round-off of marginal nodes)
 _SEARCH_RTOL = 1e-3  # GMRES tolerance while the sets are searched (then rtol on the last set)
@@ -53,20 +68,24 @@ _MARGINAL = 1e-2  # a persistent one-node stick-slip cycle: largest friction-law
 # accepted (Coulomb excess over mu p_max, reverse slip over the step's largest slip in the
 # contact): an error of the order of the stick edge's node position, which the grid's estimate
 # already carries
+_DIR_TOL = 1e-6  # (surfaces: the friction-law check accepts a direction residual of 1e3 x this)
 
 
 @dataclass
 class SlipState:
-    """The state after a load step (dimensionless fields on the grid, flat)."""
+    """The state after a load step (dimensionless fields on the grid, flat).  On a line ``q``,
+    ``u``, ``slip`` have shape (n,), ``delta`` is a number and ``sigma`` the slip directions
+    (+-1, 0 off the slip set); on a surface (``SlipState2D``) they have shape (2, n), delta is
+    a length-2 array and ``t`` (2, n) holds the slip directions."""
     p: np.ndarray          # pressure
-    q: np.ndarray          # surface shear sigma_xz(h)
+    q: np.ndarray          # surface shear
     w: np.ndarray          # sinking (-u_z) of the surface
     u: np.ndarray          # tangential displacement of the surface
     d: float               # indentation
     delta: float           # indenter's tangential displacement
     contact: np.ndarray    # bool
     stick: np.ndarray      # bool (subset of contact)
-    sigma: np.ndarray      # int8: slip direction on slip nodes (0 elsewhere)
+    sigma: np.ndarray      # int8: slip direction on slip nodes of a line (0 elsewhere)
     P: float = 0.0
     Q: float = 0.0
     slip: np.ndarray | None = None  # accumulated slip (delta - u, relative to contact entry)
@@ -74,6 +93,7 @@ class SlipState:
     krylov_iterations: int = 0
     fft_pairs: int = 0
     residuals: dict = field(default_factory=dict)
+    t: np.ndarray | None = None  # surfaces: unit slip directions (2, n), 0 off the slip set
 
     @staticmethod
     def unloaded(n: int) -> SlipState:
@@ -83,265 +103,290 @@ class SlipState:
                          np.zeros(n, dtype=np.int8), slip=z.copy())
 
 
-class PartialSlipOperator:
-    """The film's coupled surface compliance (p, q) -> (w, u) on a 1D periodic ``grid``, and
-    the clipped inverse symbols of its preconditioner."""
+class SlipState2D(SlipState):
+    """``SlipState`` of a surface (vector shear, displacements and directions)."""
 
-    def __init__(self, grid: Grid, film: Film | None = None):
-        if grid.ndim != 1:
-            raise ValueError("PartialSlipOperator takes 1D grids (line contacts); 2D grids: "
-                             "numerics.partial_slip2d")
-        self.grid = grid
-        self.film = film or Film()
-        self.fft = get_rfft(grid.shape)
-        kmag = grid.kmag
-        ks = grid.kshape
-
-        def symbols(kk):
-            def evaluate(n):
-                (up,), wp = self.film.surface_displacement_transfer(n, kk, 1.0, (0.0,))
-                (uq,), wq = self.film.surface_displacement_transfer(n, kk, 0.0, (1.0,))
-                return wp, wq, up, uq
-            return evaluate
-
-        self.H = tuple(np.broadcast_to(np.asarray(s, dtype=complex), ks).copy()
-                       for s in grid.alias_average(symbols(kmag)))
-        self._pre: dict = {}
-        self._pair = _pair_plan(grid.n)
-
-    def apply(self, p: np.ndarray, q: np.ndarray):
-        """(w, u) of the tractions (p, q): two FFT pairs (one batched pair of transforms)."""
-        r, _, _, _ = self._pair
-        r[0] = p
-        r[1] = q
-        out = self.transform(self.H)
-        return out[0].copy(), out[1].copy()
-
-    def transform(self, M):
-        """The 2 x 2 symbol ``M`` = (M00, M01, M10, M11) applied to the two rows of the
-        batched plan's real buffer (filled by the caller); returns that buffer, scaled (valid
-        until the next call)."""
-        r, c, fwd, bwd = self._pair
-        fwd()
-        c0, c1 = c[0], c[1]
-        t = M[0] * c0
-        t += M[1] * c1
-        c1 *= M[3]
-        c1 += M[2] * c0
-        c[0] = t
-        bwd()
-        r *= 1.0 / r.shape[1]
-        return r
-
-    def preconditioner(self, k_cut: float):
-        """The inverse 2 x 2 symbol for |k| >= k_cut, its value at |k| = k_cut below."""
-        M = self._pre.get(k_cut)
-        if M is None:
-            Hpp, Hpq, Hqp, Hqq = self.H
-            kc = np.full((1,), float(k_cut))
-            (up,), wp = self.film.surface_displacement_transfer((1.0,), kc, 1.0, (0.0,))
-            (uq,), wq = self.film.surface_displacement_transfer((1.0,), kc, 0.0, (1.0,))
-            low = self.grid.kmag < k_cut
-            a = np.where(low, wp, Hpp)
-            b = np.where(low, wq, Hpq)
-            c = np.where(low, up, Hqp)
-            e = np.where(low, uq, Hqq)
-            det = a * e - b * c
-            M = (e / det, -b / det, -c / det, a / det)
-            if len(self._pre) > 32:
-                self._pre.clear()
-            self._pre[k_cut] = M
-        return M
+    @staticmethod
+    def unloaded(n: int) -> SlipState2D:
+        z = np.zeros(n)
+        b = np.zeros(n, dtype=bool)
+        return SlipState2D(z, np.zeros((2, n)), z.copy(), np.zeros((2, n)), 0.0, np.zeros(2), b,
+                           b.copy(), np.zeros(n, dtype=np.int8), slip=np.zeros((2, n)),
+                           t=np.zeros((2, n)))
 
 
-_PAIRS: dict = {}
+def _unit(v):
+    """(v / |v|, |v|) column-wise for v of shape (D, n) (0 where |v| = 0)."""
+    n = np.abs(v[0]) if v.shape[0] == 1 else np.hypot(v[0], v[1])
+    return v / np.where(n > 0, n, 1.0), n
 
 
-def _pair_plan(n: int):
-    """A batched real FFT of two rows of n points (pyfftw, the package's planner effort):
-    (real buffer (2, n), complex buffer (2, n/2 + 1), forward, backward)."""
-    import pyfftw
-
-    from . import fft as _fft
-
-    plan = _PAIRS.get(n)
-    if plan is None:
-        r = pyfftw.empty_aligned((2, n), dtype="float64")
-        c = pyfftw.empty_aligned((2, n // 2 + 1), dtype="complex128")
-        effort = _fft._PLANNER_EFFORT
-        fwd = pyfftw.FFTW(r, c, axes=(-1,), direction="FFTW_FORWARD", flags=(effort,))
-        bwd = pyfftw.FFTW(c, r, axes=(-1,), direction="FFTW_BACKWARD",
-                          flags=(effort, "FFTW_DESTROY_INPUT"))
-        plan = _PAIRS[n] = (r, c, fwd.execute, bwd.execute)
-        if len(_PAIRS) > 8:
-            _PAIRS.pop(next(iter(_PAIRS)))
-    return plan
+def _run(idx: np.ndarray):
+    """A slice for a contiguous run of indices (gathers and scatters the same values)."""
+    if idx.size and idx[-1] - idx[0] + 1 == idx.size:
+        return slice(int(idx[0]), int(idx[-1]) + 1)
+    return idx
 
 
-def solve_slip_step(op: PartialSlipOperator, f: np.ndarray, prev: SlipState, P: float, Q: float,
+def _vec(x, nd: int) -> np.ndarray:
+    """A field of D components as a (D, n) array (a line's (n,) -> (1, n)), a vector as (D,)."""
+    x = np.asarray(x, dtype=float)
+    return x.reshape(nd, -1) if x.ndim > 1 or x.size > nd else x.reshape(nd)
+
+
+def _directions(g: SlipState, nd: int) -> np.ndarray:
+    """The slip directions of a state as (D, n) (a line's sigma as +-1.0)."""
+    if g.t is not None:
+        return _vec(g.t, nd)
+    return g.sigma.astype(float)[None] if nd == 1 else np.zeros((nd, g.p.size))
+
+
+class _Linear:
+    """The bordered linear system for fixed sets (C, S, slip directions t on L = C \\ S):
+    unknowns p on C, q (each component) on S, on a surface the shear r across t on L, then d
+    and delta; rows: gap on C, stick on S, on a surface no slip across t on L (the Newton
+    linearisation), the loads.  ``solve(x0, rt)`` runs GMRES and sets the fields."""
+
+    def __init__(self, op, f, sets, prev, P, Q, mu, gross, slip_mag, p_last):
+        contact, stick, t = sets
+        nd, n = op.ndim, op.size
+        self.op, self.nd, self.mu, self.gross = op, nd, mu, gross
+        self.C, self.S = np.flatnonzero(contact), np.flatnonzero(stick)
+        self.L = np.flatnonzero(contact & ~stick)
+        C, S, L = self.C, self.S, self.L
+        self.Cs, self.Ss = _run(C), _run(S)
+        self.posL = np.searchsorted(C, L)
+        self.tL = t[:, L]
+        nC, nS, nL = C.size, S.size, L.size
+        self.nr = nL if nd == 2 else 0  # unknowns across t (none on a line)
+        self.i_s, self.i_l = nC, nC + nd * nS
+        self.i_d = self.i_l + self.nr
+        self.sL = mu * self.tL[0] if nd == 1 else None
+        if self.nr:  # the Newton term across t, |s|/(|mu| p), and its rows' preconditioner
+            pl = p_last[L]
+            self.compl = np.where(pl > 0, slip_mag[L] / (mu * np.maximum(pl, 1e-300)), 0.0)
+            a0 = op.self_compliance()
+            self.damp = a0 / (a0 + self.compl)
+        rhs_gap = -f[C]
+        gap_norm = max(math.sqrt(float(rhs_gap @ rhs_gap)), 1e-300)
+        self.wP, self.wQ = gap_norm / P, gap_norm / max(mu * P, 1e-300)
+        self.wPc, self.wQc = self.wP * op.cell, self.wQ * op.cell
+        self.Mi = op.preconditioner(op.cut(C))
+        self.flat = op._plan[0].reshape(op.m, n)
+        u_prev, d_prev = prev
+        rhs_l = np.zeros(self.nr)
+        if self.nr and not gross:
+            rhs_l = -self.tL[1] * (u_prev[0, L] - d_prev[0]) + self.tL[0] * (u_prev[1, L] - d_prev[1])
+        self.b = np.concatenate([rhs_gap] + [u_prev[c, S] - d_prev[c] for c in range(nd)]
+                                + [rhs_l, [self.wP * P], self.wQ * Q])
+        self.counters = {"fft": 0, "krylov": 0}
+
+    def scatter(self, v):
+        flat, nd, nS = self.flat, self.nd, self.S.size
+        flat.fill(0.0)
+        pv = v[:self.i_s]
+        flat[0, self.Cs] = pv
+        for c in range(nd):
+            flat[1 + c, self.Ss] = v[self.i_s + c * nS:self.i_s + (c + 1) * nS]
+        if self.L.size:
+            if nd == 1:
+                flat[1, self.L] = self.sL * pv[self.posL]
+            else:
+                pl, r, tL = self.mu * pv[self.posL], v[self.i_l:self.i_d], self.tL
+                flat[1, self.L] = tL[0] * pl - tL[1] * r
+                flat[2, self.L] = tL[1] * pl + tL[0] * r
+        return pv
+
+    def matvec(self, v):
+        op, nd, nS, i_d = self.op, self.nd, self.S.size, self.i_d
+        self.counters["fft"] += op.m
+        pv = self.scatter(v)
+        qs = self.flat[1:].sum(axis=1)
+        out = op.transform(op.M).reshape(op.m, -1)
+        self.last = out
+        res = np.empty_like(v)
+        np.subtract(out[0, self.Cs], v[i_d], out=res[:self.i_s])
+        for c in range(nd):
+            np.subtract(out[1 + c, self.Ss], v[i_d + 1 + c],
+                        out=res[self.i_s + c * nS:self.i_s + (c + 1) * nS])
+        if self.nr:
+            L, tL, r = self.L, self.tL, v[self.i_l:i_d]
+            res[self.i_l:i_d] = r if self.gross else (
+                -tL[1] * (out[1, L] - v[i_d + 1]) + tL[0] * (out[2, L] - v[i_d + 2])
+                + self.compl * r)
+        res[i_d] = self.wPc * pv.sum()
+        res[i_d + 1:] = self.wQc * qs
+        return res
+
+    def psolve(self, r):
+        op, flat, nd, nS = self.op, self.flat, self.nd, self.S.size
+        self.counters["fft"] += op.m
+        flat.fill(0.0)
+        flat[0, self.Cs] = r[:self.i_s]
+        for c in range(nd):
+            flat[1 + c, self.Ss] = r[self.i_s + c * nS:self.i_s + (c + 1) * nS]
+        if self.nr:
+            flat[1, self.L] = -self.tL[1] * r[self.i_l:self.i_d]
+            flat[2, self.L] = self.tL[0] * r[self.i_l:self.i_d]
+        out = op.transform(self.Mi).reshape(op.m, -1)
+        z = np.empty_like(r)
+        z[:self.i_s] = out[0, self.Cs]
+        for c in range(nd):
+            z[self.i_s + c * nS:self.i_s + (c + 1) * nS] = out[1 + c, self.Ss]
+        if self.nr:
+            L, tL = self.L, self.tL
+            z[self.i_l:self.i_d] = r[self.i_l:self.i_d] if self.gross else \
+                (-tL[1] * out[1, L] + tL[0] * out[2, L]) * self.damp
+        z[self.i_d:] = r[self.i_d:]
+        return z
+
+    def solve(self, state, rt, max_krylov):
+        """GMRES from the fields ``state`` = (p, q, d, delta); returns (p, q, w, u, d, delta,
+        relative residual)."""
+        p, q, d, delta = state
+        C, S, L = self.C, self.S, self.L
+        r0 = (-self.tL[1] * q[0, L] + self.tL[0] * q[1, L]) if self.nr else np.zeros(0)
+        v0 = np.concatenate([p[C]] + [q[c, S] for c in range(self.nd)] + [r0, [d], delta])
+        v, its, rel = gmres(self.matvec, self.psolve, self.b, v0, rtol=rt, maxiter=max_krylov)
+        self.counters["krylov"] += its
+        # (w, u) from GMRES's last matvec (always at the returned v; its output buffer is not
+        # touched after it), then (p, q) scattered again
+        out = self.last
+        w, u = out[0].copy(), out[1:].copy()
+        self.scatter(v)
+        return (self.flat[0].copy(), self.flat[1:].copy(), w, u, float(v[self.i_d]),
+                v[self.i_d + 1:].copy(), rel)
+
+
+def _update(sets, fields, prev_delta, u_prev, mu, gross, qdir, cautious):
+    """The next sets from the last solve: (contact, stick, t), the slip increment's
+    (ds, |ds|, scale), the kept slip nodes and the directions' turn (see the module)."""
+    contact, stick, t = sets
+    p, q, w, u, d, delta, gap = fields
+    ds = (delta - prev_delta)[:, None] - (u - u_prev)
+    dsu, dsn = _unit(ds)
+    pmax = max(float(p.max()), 1e-300)
+    ds_scale = max(float(dsn[contact].max()) if contact.any() else 0.0,
+                   float(np.sqrt(((delta - prev_delta) ** 2).sum())), 1e-300)
+    qu, qn = _unit(q)
+    new_contact = np.where(contact, p >= 0.0, gap < 0.0)
+    was_stick = stick & new_contact
+    excess = qn - mu * p
+    to_slip = was_stick & (excess > _SET_TOL * mu * pmax)
+    was_slip = contact & ~stick & new_contact
+    along = (t * ds).sum(axis=0)
+    back = was_slip & (along < -_SET_TOL * ds_scale)
+    if cautious:
+        # after a cycle: only the worst violation of each kind changes (a cycle of the full
+        # update swaps whole bands of nodes between stick and slip)
+        to_slip = _worst(to_slip, excess / pmax)
+        back = _worst(back, -along / ds_scale)
+    new_stick = (was_stick & ~to_slip) | back
+    new_t = np.zeros_like(t)
+    keep = was_slip & ~back
+    if gross:  # the slip grows without bound: along Q at every slipping node
+        new_t[:, to_slip | keep] = qdir[:, None]
+    else:  # along the shear the solve needed to keep the slip along t
+        new_t[:, to_slip] = qu[:, to_slip]
+        new_t[:, keep] = np.where(qn[keep] > 0, qu[:, keep], t[:, keep])
+    # a node coming into contact slips the way it moved relative to the indenter while it was
+    # free (sticking there would hold it where it was at the last step: at a trailing edge, a
+    # large shear on a vanishing pressure); it sticks at a later iteration if that reverses
+    entered = new_contact & ~contact
+    new_t[:, entered] = qdir[:, None] if gross else np.where(
+        dsn[entered] > 0, dsu[:, entered], qdir[:, None])
+    if not new_stick.any() and new_contact.any():
+        # gross sliding: keep the most stuck of the old stick nodes still in contact
+        cand = np.flatnonzero(stick & new_contact)
+        if not cand.size:
+            cand = np.flatnonzero(new_contact)
+        j = cand[np.argmin(excess[cand] / pmax)]
+        new_stick[j] = True
+        new_t[:, j] = 0.0
+    turn = 0.0
+    if keep.any() and t.shape[0] > 1:  # (on a line the directions are +-1 and stay)
+        # the directions' change weighted by p / p_max (the change of q it makes, over
+        # |mu| p_max: at the contact's edge p vanishes), and the largest turn squared
+        dt = np.sqrt(((new_t - t) ** 2).sum(axis=0))[keep]
+        turn = max(float(np.max(dt * p[keep])) / pmax, float(np.max(dt)) ** 2)
+    return (new_contact, new_stick, new_t), (ds, dsn, ds_scale), turn
+
+
+def _start(g: SlipState, f, nd, qdir):
+    """First sets and fields from the state ``g`` (the previous step or a guess)."""
+    contact = g.contact.copy()
+    if not contact.any():
+        contact[int(np.argmin(f))] = True
+    stick = g.stick & contact
+    slipping = contact & ~stick
+    t, tn = _unit(np.where(slipping, _directions(g, nd), 0.0))
+    missing = slipping & (tn == 0)
+    t[:, missing] = qdir[:, None]  # no direction yet: along Q (or +x)
+    if not stick.any():
+        j = np.flatnonzero(contact)[np.argmax(g.p[contact])]
+        stick[j] = True
+        t[:, j] = 0.0
+    fields = (np.where(contact, g.p, 0.0), np.where(contact, _vec(g.q, nd), 0.0), float(g.d),
+              _vec(g.delta, nd).copy())
+    return (contact, stick, t), fields
+
+
+def solve_slip_step(op: PartialSlipOperator, f: np.ndarray, prev: SlipState, P: float, Q,
                     mu: float, *, guess: SlipState | None = None, rtol: float = 1e-10,
                     search_rtol: float | None = _SEARCH_RTOL, accept: float = 1e-8,
-                    max_outer: int = 100, max_krylov: int = 2000) -> SlipState:
+                    max_outer: int = 200, max_krylov: int = 2000,
+                    dir_tol: float | None = None) -> SlipState:
     """One quasi-static load step from the state ``prev`` to the loads (P, Q) (dimensionless:
-    P, Q per unit length in G h/2R x h; ``f`` the indenter's heights above its apex, in
-    h^2/2R), Coulomb friction coefficient |mu|.
+    forces in the core's units; Q a number on a line, (Q_x, Q_y) on a surface; ``f`` the
+    indenter's heights above its apex, flat), Coulomb friction coefficient |mu|.
 
     guess : first sets and fields (default ``prev``; for the first step of a loading from
             nothing, e.g. a frictionless solution: its contact set, all stuck).
     search_rtol : the inner (GMRES) tolerance while the sets are searched; once they repeat,
             the solve is redone to ``rtol`` on them (and must confirm them).  Only the path
             changes, not what is accepted (None: ``rtol`` throughout).
+    dir_tol : surfaces: the slip directions' convergence (see the module; default ``accept``).
     Returns the new state (its ``slip``: the accumulated slip delta - u relative to where each
-    node was when it came into contact, 0 off the contact).  ConvergenceError if the sets do not
-    settle or the final residual exceeds ``accept``.
+    node was when it came into contact, 0 off the contact).  ConvergenceError if the sets do
+    not settle or the final residual exceeds ``accept``.
     """
-    grid = op.grid
-    n = grid.n
-    cell = grid.cell
+    nd = op.ndim
     mu = abs(float(mu))
-    g = guess or prev
-    contact = g.contact.copy()
-    if not contact.any():
-        contact[int(np.argmin(f))] = True
-    stick = g.stick & contact
-    sigma = np.where(contact & ~stick, g.sigma, 0).astype(np.int8)
-    if not stick.any():
-        stick[np.flatnonzero(contact)[np.argmax(g.p[contact])]] = True
-        sigma[stick] = 0
-    p = np.where(contact, g.p, 0.0)
-    q = np.where(contact, g.q, 0.0)
-    d, delta = g.d, g.delta
-    u_prev, delta_prev = prev.u, prev.delta
+    Qv = np.atleast_1d(np.asarray(Q, dtype=float)).reshape(nd)
+    Qmag = float(np.sqrt((Qv * Qv).sum()))
+    gross = Qmag >= mu * P * (1.0 - 1e-12)
+    qdir = Qv / Qmag if Qmag > 0 else np.eye(nd)[0]
+    dir_tol = accept if dir_tol is None else dir_tol
+    u_prev, d_prev = _vec(prev.u, nd), _vec(prev.delta, nd)
+    sets, fields = _start(guess or prev, f, nd, qdir)
     counters = {"fft": 0, "krylov": 0}
     seen = set()
     result = None
     rt = max(rtol, search_rtol or rtol)
-    cautious = False
-    marginal = False
+    cautious = marginal = False
     cycles = 0
+    slip_mag = np.zeros(f.size)  # |s| of the last iteration (surfaces' Newton term)
     for outer in range(1, max_outer + 1):  # noqa: B007 (the count is reported after the loop)
-        C = np.flatnonzero(contact)
-        S = np.flatnonzero(stick)
-        L = np.flatnonzero(contact & ~stick)
-        sL = mu * sigma[L]
-        nC, nS = C.size, S.size
-        rhs_gap = -f[C]
-        rhs_stick = u_prev[S] - delta_prev
-        gap_norm = max(math.sqrt(float(rhs_gap @ rhs_gap)), 1e-300)
-        wP = gap_norm / P
-        wQ = gap_norm / (mu * P) if mu > 0 else 1.0
-        # (the contact's width rounded to 1/16 of an octave: the cut-off need not be exact,
-        # and its clipped inverse symbol is then reused from step to step)
-        width = 2.0 ** (round(16.0 * math.log2(max(C[-1] - C[0] + 1, 1) * grid.dx)) / 16.0)
-        Mi = op.preconditioner(math.pi / width)
-        last = [None]
-        # position of p's slip nodes within C (q there = sigma mu p)
-        posL = np.searchsorted(C, L)
-
-        # (one contiguous run, the common case: slices gather and scatter the same values)
-        Cs = slice(int(C[0]), int(C[-1]) + 1) if C[-1] - C[0] + 1 == nC else C
-        Ss = slice(int(S[0]), int(S[-1]) + 1) if nS and S[-1] - S[0] + 1 == nS else S
-        rbuf = op._pair[0]
-        transform = op.transform
-        H = op.H
-
-        def matvec(v):
-            counters["fft"] += 2
-            rbuf.fill(0.0)
-            pv = v[:nC]
-            rbuf[0, Cs] = pv
-            rbuf[1, Ss] = v[nC:nC + nS]
-            if L.size:
-                rbuf[1, L] = sL * pv[posL]
-            qsum = rbuf[1].sum()
-            last[0] = (pv.copy(), v[nC:nC + nS].copy())
-            out = transform(H)
-            wu[0] = out
-            res = np.empty_like(v)
-            np.subtract(out[0, Cs], v[nC + nS], out=res[:nC])
-            np.subtract(out[1, Ss], v[nC + nS + 1], out=res[nC:nC + nS])
-            res[nC + nS] = wP * cell * pv.sum()
-            res[nC + nS + 1] = wQ * cell * qsum
-            return res
-
-        def psolve(r):
-            counters["fft"] += 2
-            rbuf.fill(0.0)
-            rbuf[0, Cs] = r[:nC]
-            rbuf[1, Ss] = r[nC:nC + nS]
-            out = transform(Mi)
-            z = np.empty_like(r)
-            z[:nC] = out[0, Cs]
-            z[nC:nC + nS] = out[1, Ss]
-            z[nC + nS:] = r[nC + nS:]
-            return z
-
-        wu = [None]
-
-        def fields():
-            """p, q, w, u of the last matvec (GMRES's last one is at the solution)."""
-            pv, qv = last[0]
-            pf = np.zeros(n)
-            pf[C] = pv
-            qf = np.zeros(n)
-            qf[S] = qv
-            qf[L] = sL * pv[posL]
-            return pf, qf, wu[0][0].copy(), wu[0][1].copy()
-
-        b = np.concatenate([rhs_gap, rhs_stick, [wP * P, wQ * Q]])
-        v0 = np.concatenate([p[C], q[S], [d, delta]])
-        v, its, rel = gmres(matvec, psolve, b, v0, rtol=rt, maxiter=max_krylov)
-        counters["krylov"] += its
-        pf, qf, w, u = fields()
-        d, delta = float(v[nC + nS]), float(v[nC + nS + 1])
-        p, q = pf, qf
+        lin = _Linear(op, f, sets, (u_prev, d_prev), P, Qv, mu, gross, slip_mag, fields[0])
+        p, q, w, u, d, delta, rel = lin.solve(fields, rt, max_krylov)
+        for k in counters:
+            counters[k] += lin.counters[k]
+        fields = (p, q, d, delta)
         gap = f - d + w
-        ds = (delta - delta_prev) - (u - u_prev)
-        pmax = max(float(p.max()), 1e-300)
-        ds_scale = max(float(np.abs(ds).max()), abs(delta - delta_prev), 1e-300)
-        # new sets
-        new_contact = np.where(contact, p >= 0.0, gap < 0.0)
-        new_stick = np.zeros(n, dtype=bool)
-        new_sigma = np.zeros(n, dtype=np.int8)
-        was_stick = stick & new_contact
-        excess = np.abs(q) - mu * p
-        to_slip = was_stick & (excess > _SET_TOL * mu * pmax)
-        was_slip = contact & ~stick & new_contact
-        back = was_slip & (sigma * ds < -_SET_TOL * ds_scale)
-        if cautious:
-            # after a cycle: only the worst violation of each kind changes (a cycle of the
-            # full update swaps whole bands of nodes between stick and slip)
-            to_slip = _worst(to_slip, excess / pmax)
-            back = _worst(back, -(sigma * ds) / ds_scale)
-        new_stick[was_stick & ~to_slip] = True
-        new_sigma[to_slip] = np.sign(q[to_slip]).astype(np.int8)
-        new_stick[back] = True
-        keep = was_slip & ~back
-        new_sigma[keep] = sigma[keep]
-        # a node coming into contact slips the way it moved relative to the indenter while
-        # it was free (sticking there would hold it at the position it had at the last
-        # step: at a trailing edge, a large shear on a vanishing pressure); it sticks at a
-        # later iteration if its slip reverses
-        entered = new_contact & ~contact
-        new_sigma[entered] = np.where(ds[entered] < 0.0, -1, 1)
-        if not new_stick.any() and new_contact.any():
-            # gross sliding: keep the most stuck of the old stick nodes still in contact
-            cand = np.flatnonzero(stick & new_contact)
-            if not cand.size:
-                cand = np.flatnonzero(new_contact)
-            j = cand[np.argmin(excess[cand] / pmax)]
-            new_stick[j] = True
-            new_sigma[j] = 0
-        key = (new_contact.tobytes(), new_stick.tobytes(), new_sigma.tobytes())
-        same = (np.array_equal(new_contact, contact) and np.array_equal(new_stick, stick)
-                and np.array_equal(new_sigma, sigma))
-        if same and rt > rtol:  # the loose search has settled: confirm at rtol
-            rt = rtol
-            seen.clear()
-            continue
-        if same:
-            result = (p, q, w, u, gap, ds, rel)
+        new, (ds, slip_mag, _), turn = _update(sets, (p, q, w, u, d, delta, gap), d_prev,
+                                               u_prev, mu, gross, qdir, cautious)
+        same = np.array_equal(new[0], sets[0]) and np.array_equal(new[1], sets[1])
+        if same and turn <= dir_tol and rel <= rtol:
+            result = (p, q, w, u, d, delta, gap, ds, rel)
             break
+        if same:
+            # settled sets: the directions (a Newton iteration: the next solve's inner
+            # tolerance follows their turn) and the inner tolerance, down to rtol
+            seen.clear()
+            sets = (sets[0], sets[1], new[2])
+            rt = rtol if turn <= dir_tol else max(rtol, min(rt, turn))
+            continue
+        key = (new[0].tobytes(), new[1].tobytes())
         if key in seen:
             cycles += 1
             seen.clear()
@@ -355,55 +400,87 @@ def solve_slip_step(op: PartialSlipOperator, f: np.ndarray, prev: SlipState, P: 
             # states both violate the law slightly (the discrete boundary falls between
             # nodes); this state is accepted if its violations are below _MARGINAL
             marginal = True
-            result = (p, q, w, u, gap, ds, rel)
+            result = (p, q, w, u, d, delta, gap, ds, rel)
             break
         seen.add(key)
-        contact, stick, sigma = new_contact, new_stick, new_sigma
+        sets = new
     if result is None:
-        raise ConvergenceError(f"partial slip: the active sets did not settle in {max_outer} "
-                               f"iterations (P = {P:.4g}, Q = {Q:.4g})", iterations=max_outer)
-    p, q, w, u, gap, ds, rel = result
-    if abs(Q) >= mu * P * (1.0 - 1e-12) and stick.sum() == 1:
-        # gross sliding: the kept stick node carries q = sigma mu p up to the load residual
+        raise ConvergenceError(f"partial slip: the stick-slip sets did not settle in {max_outer} "
+                               f"iterations (P = {P:.4g}, Q = {Q})", iterations=max_outer)
+    return _finish(op, prev, sets, result, P, Qv, mu, gross, qdir, accept, marginal, cycles,
+                   outer, counters)
+
+
+def _finish(op, prev, sets, result, P, Qv, mu, gross, qdir, accept, marginal, cycles, outer,
+            counters) -> SlipState:
+    """The accepted step: the residuals (max-norm, relative; ConvergenceError beyond
+    ``accept``), the accumulated slip, the state in the grid's shapes."""
+    nd, cell = op.ndim, op.grid.cell
+    contact, stick, t = sets
+    p, q, w, u, d, delta, gap, ds, rel = result
+    if gross and stick.sum() == 1:
+        # gross sliding: the kept stick node carries q = mu p Q/|Q| up to the load residual
         # divided by the cell (the sum fixes it): set it exactly
         j = np.flatnonzero(stick)[0]
-        q[j] = math.copysign(mu * p[j], Q)
-    # residuals (max-norm, relative)
-    off = ~contact
-    slipn = contact & ~stick
-    ds_scale = max(float(np.abs(ds[contact]).max()), abs(delta - delta_prev), 1e-300)
+        q[:, j] = mu * p[j] * qdir
+    off, slipn = ~contact, contact & ~stick
+    _, dsn = _unit(ds)
+    qu, qn = _unit(q)
+    pmax = max(float(p.max()), 1e-300)
+    ds_scale = max(float(dsn[contact].max()), float(np.sqrt(((delta - _vec(prev.delta, nd)) ** 2)
+                                                             .sum())), 1e-300)
+    along = (qu * ds).sum(axis=0)
+    if nd == 1:  # reverse slip (over the step's largest slip in the contact)
+        direction = float(max((-along)[slipn].max(), 0.0)) if slipn.any() else 0.0
+    else:  # slip against the shear or off its direction (not at gross sliding: there the slip
+        # is unbounded along Q, this step's finite increment is not its direction)
+        direction = float(np.max(np.where(qn > 0, dsn - along, 0.0)[slipn])) \
+            if slipn.any() and not gross else 0.0
     res = {
         "linear": rel,
-        "penetration": float(max(-gap[off].min(), 0.0)) / max(abs(d), 1e-300) if off.any() else 0.0,
+        "penetration": float(max(-gap[off].min(), 0.0)) / max(abs(d), 1e-300) if off.any()
+        else 0.0,
         "tension": float(max(-p.min(), 0.0)) / pmax,
-        "coulomb": float(max((np.abs(q) - mu * p).max(), 0.0)) / max(mu * pmax, 1e-300),
-        "slip_direction": float(max((-(sigma * ds))[slipn].max(), 0.0)) / ds_scale
-        if slipn.any() else 0.0,
+        "coulomb": float(max((qn - mu * p).max(), 0.0)) / max(mu * pmax, 1e-300),
+        "slip_direction": direction / ds_scale,
         "load": abs(cell * p.sum() - P) / P,
-        "tangential_load": abs(cell * q.sum() - Q) / max(mu * P, 1e-300),
+        "tangential_load": float(np.sqrt(((cell * q.sum(axis=1) - Qv) ** 2).sum()))
+        / max(mu * P, 1e-300),
     }
     friction = max(res["coulomb"], res["slip_direction"])
     worst = max(v for k, v in res.items() if k not in ("linear", "coulomb", "slip_direction"))
-    if friction > (_MARGINAL if marginal else accept):
+    limit = accept if nd == 1 else max(accept, 1e3 * _DIR_TOL)
+    if friction > (_MARGINAL if marginal else limit):
         raise ConvergenceError(
-            f"partial slip step (P = {P:.4g}, Q = {Q:.4g}): the stick-slip sets "
+            f"partial slip step (P = {P:.4g}, Q = {Qv}): the stick-slip sets "
             f"{'cycle' if marginal else 'settle'} with a friction-law violation {friction:.1e}",
             residuals=[friction], iterations=outer)
     res["marginal_nodes"] = int(marginal)
     res["cycles"] = cycles
     if worst > accept:
-        raise ConvergenceError(f"partial slip step (P = {P:.4g}, Q = {Q:.4g}): residual "
+        raise ConvergenceError(f"partial slip step (P = {P:.4g}, Q = {Qv}): residual "
                                f"{worst:.1e} > {accept:.0e} ({max(res, key=res.get)})",
                                residuals=[worst], iterations=outer)
     # accumulated slip: the previous one plus this step's increment, on nodes in contact
     # before and now; a node entering contact starts from 0
-    old = prev.slip if prev.slip is not None else np.zeros(n)
+    old = _vec(prev.slip, nd) if prev.slip is not None else np.zeros_like(ds)
     slip = np.where(contact & prev.contact, old + ds, 0.0)
     p = np.where(contact, np.maximum(p, 0.0), 0.0)
-    return SlipState(p=p, q=q, w=w, u=u, d=d, delta=delta, contact=contact, stick=stick,
-                     sigma=sigma, P=P, Q=Q, slip=slip, iterations=outer,
-                     krylov_iterations=counters["krylov"], fft_pairs=counters["fft"],
-                     residuals=res)
+    t = np.where(slipn, t, 0.0)
+    info = dict(P=P, iterations=outer, krylov_iterations=counters["krylov"],
+                fft_pairs=counters["fft"], residuals=res)
+    if nd == 1:
+        return SlipState(p=p, q=q[0], w=w, u=u[0], d=d, delta=float(delta[0]), contact=contact,
+                         stick=stick, sigma=np.sign(t[0]).astype(np.int8), Q=float(Qv[0]),
+                         slip=slip[0], **info)
+    s = SlipState2D(p=p, q=q, w=w, u=u, d=d, delta=delta, contact=contact, stick=stick,
+                    sigma=np.zeros(p.size, dtype=np.int8), Q=float(np.hypot(*Qv)), slip=slip,
+                    t=np.where(slipn, qu, 0.0), **info)
+    s.shape = op.grid.shape
+    return s
+
+
+solve_slip_step_2d = solve_slip_step
 
 
 def _worst(mask: np.ndarray, score: np.ndarray) -> np.ndarray:

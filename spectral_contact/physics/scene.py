@@ -437,6 +437,36 @@ def _check_viscoelastic(scene):
     if mu * v < 0.0:
         raise InputError(f"--speed and --mu both give the sliding direction: they must have the "
                          f"same sign (or one be 0); got --speed {v:g}, --mu {mu:g}")
+    _check_visco_scales(scene, v)
+
+
+PRONY_RATIO_RANGE = (1e-12, 1e12)
+"""E_i / E_inf a Prony term may have (beyond, the symbols' arithmetic under- or overflows: 1e-20
+Pa against 2.2 MPa was a math domain error, 1e308 Pa an overflow)."""
+RELAXATION_LENGTH_RANGE = (1e-50, 1e50)
+"""|V| tau_i / h a moving Prony film may have (beyond, the relaxation tail's margin and edge
+scale under- or overflow: tau 1e-300 s or 1e308 s at 5 cm/s, V 1e308 m/s crashed)."""
+
+
+def _check_visco_scales(scene, v):
+    """Each Prony term's modulus ratio and relaxation length within the ranges above (one line
+    naming the option, exit 2 on the command line)."""
+    lo, hi = PRONY_RATIO_RANGE
+    young, h = scene.young, scene.thickness
+    if not all(isinstance(a, (int, float)) and math.isfinite(a) and a > 0 for a in (young, h)):
+        return  # refused by the options' own check
+    for e, t in scene.prony:
+        ratio = e / young
+        if not lo <= ratio <= hi:
+            raise InputError(f"--prony term E = {e:g} Pa is {ratio:.3g} times --young {young:g} "
+                             f"Pa (E_inf): each E_i / E_inf must be in [{lo:g}, {hi:g}]")
+        if v != 0.0:
+            length = abs(v) * t / h
+            if not RELAXATION_LENGTH_RANGE[0] <= length <= RELAXATION_LENGTH_RANGE[1]:
+                raise InputError(
+                    f"--speed {v:g} m/s and --prony tau = {t:g} s make a relaxation length "
+                    f"|V| tau / h = {length:.3g}: it must be in [{RELAXATION_LENGTH_RANGE[0]:g}, "
+                    f"{RELAXATION_LENGTH_RANGE[1]:g}] (--speed 0 is the relaxed film)")
 
 
 PAPER_SCENE = Scene()

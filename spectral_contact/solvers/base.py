@@ -51,6 +51,19 @@ def check_grid_points(value, lo: int, hi: int, what: str, even: bool = False,
     return n
 
 
+ONSET_MU_MIN = 1e-6
+"""The smallest |mu| onset takes: below it the tangential load mu P is below what the partial
+slip iteration resolves (|mu| 1e-200 and below crashed it; 1e-100 ... 1e-8 did not converge)."""
+
+
+def check_onset_mu(mu) -> float:
+    """|mu| >= ONSET_MU_MIN (the tangential load goes up to mu P)."""
+    if not abs(mu) >= ONSET_MU_MIN:
+        raise InputError(f"{named('mu')} must be != 0 for onset, |mu| >= {ONSET_MU_MIN:g} (the "
+                         f"tangential load goes up to mu P); got {mu:g}")
+    return mu
+
+
 class Method(ABC):
     """A numerical method for the contact of one scene.
 

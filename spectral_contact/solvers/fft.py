@@ -33,21 +33,18 @@ import warnings
 
 import numpy as np
 
-from ..errors import ConvergenceError, InputError, named
-from ..numerics.contact import refine_nested, solve_contact
+from ..errors import ConvergenceError, InputError
+from ..numerics.contact import refine_nested
 from ..numerics.edges import fit_edges, peak
-from ..numerics.fft import get_rfft, planning_time
-from ..numerics.friction import solve_contact_law
+from ..numerics.fft import get_rfft
 from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.interface import solve_exponential_contact
-from ..physics.friction import ShearLaw
-from ..physics.scene import Scene, Scene3D, check_positive
+from ..physics.scene import Scene
 from ..result import ContactResult
-from .base import Method, check_grid_points, register
-from .fft3d import solve_fft3d
+from .fft_driver import Problem, run
 from .visco_slow import slow_sliding
 
-__all__ = ["solve_fft", "FFTMethod", "MIN_POINTS", "MAX_POINTS"]
+__all__ = ["solve_fft", "MIN_POINTS", "MAX_POINTS"]
 
 _log = logging.getLogger(__name__)  # progress (INFO): one line per refinement level
 
@@ -77,12 +74,9 @@ def _unresolved_edges(edge_scales, a, dx):
     return sum(weight * width / a for width, weight in edge_scales
                if width < _VISCO_EDGE_CELLS * dx)
 # the locator's inner solves (plain Amontons contact): its a and x_c are only good to ~dx anyway
-_LOCATOR_RTOL = 1e-6
-_LOCATOR_ACCEPT = 1e-3
-_LOCATOR_SEARCH_RTOL = 1e-2  # and while its active set is searched (measured: fewer GMRES
-#                             iterations, no more active-set steps over P 0.09-1773, mu 0-10)
+# (fft_driver.LOCATOR_*: measured fewer GMRES iterations, no more active-set steps over P
+# 0.09-1773, mu 0-10)
 _RTOL_FLOOR, _RTOL_CAP = 1e-10, 1e-9  # the inner solves' relative tolerance: 1e-3 accept, within these
-_BYTES_PER_POINT = 400  # peak Python-side memory of a fixed-N solve (tracemalloc, N = 2^14..2^18)
 
 
 def _locator_guess(g, P, a_bound, mu):
@@ -278,342 +272,328 @@ def _level_sizes(L, a, tol, grid_points, domain_length, edge_scales=()):
 
 
 def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points: int | None = None,
-              domain_length: float | None = None) -> ContactResult:
+              domain_length: float | None = None, progress=None) -> ContactResult:
     """Solve ``scene`` with the spectral method.
 
     model : "exact" (Amontons friction coupled into the contact) or "goodman" (frictionless
             pressure and window; friction only loads the base).
     tol : relative accuracy target for a, x_c, d and p_max (0 < tol < 0.1).
     grid_points : fix N (power of two advised; >= 64); domain_length : fix L [in h].
+    progress : optional callable(str), told about each level (default: this module's INFO
+        log, as the surfaces' ``solve_fft3d``).
     """
-    t0 = time.perf_counter()
-    plans0 = planning_time()
-    P = scene.P
-    mu_contact = scene.mu if model == "exact" else 0.0
-    film = scene.core_film()  # lengths in h: thickness 1 (the scene's film kind)
-    visco = film.moving  # a film whose symbols depend on the sliding (physics.film)
-    if visco and grid_points is None and domain_length is None:
+    prob = Problem(scene, model, tol, adaptive=not grid_points,
+                   progress=_log.info if progress is None else progress)
+    if prob.visco and grid_points is None and domain_length is None:
         # slow sliding: the relaxed elastic solve + the first-order correction (visco_slow)
-        slow = slow_sliding(scene, film, model, tol, solve_fft)
+        slow = slow_sliding(scene, prob.film, model, tol, solve_fft)
         if slow is not None:
             return slow
-    margin = film.domain_margin(tol)  # images ~ tol/100 x O(1)
-    # residual (relative displacement / pressure / load) accepted from each contact solve:
-    # far below tol, but not below what round-off allows for very wide contacts
-    accept = max(1e-8, 1e-2 * tol)
     # the inner (GMRES) solves: 1e-10 costs ~10 % more iterations than 1e-9 for nothing at
     # these tolerances (the results keep their residual below 1e-8); the locator's a and x_c
     # only size the period and the grid: its inner solves are looser
     # this and the first active sets from fitted edges (_first_set) only speed the adaptive
     # path: a user-fixed grid keeps 1e-10 and its earlier first sets (its results stay those
     # of earlier versions to round-off: golden values; either moves them by ~1e-11)
-    adaptive = not grid_points
     # 1e-3 accept: tol 1e-5 keeps 1e-10 (at 2^21 points, 1e-9 moved a by 4e-6 = 0.4 tol)
-    rtol = min(max(_RTOL_FLOOR, 1e-3 * accept), _RTOL_CAP) if adaptive else _RTOL_FLOOR
-    # a friction law other than Amontons: an outer fixed point around each contact solve
-    # (numerics.friction), converged to the same relative accuracy as the contact solves
-    friction = scene.friction  # (a new FrictionLaw at each access)
-    law = friction.dimensionless(scene.stress_unit, scene.mu)
-    with_law = model == "exact" and not friction.is_amontons
-    law_iterations = [0]
-    # a compliant interface (linear): the contact operator is H + c (numerics.friction)
-    c = scene.interface
-    if c and tol > _INTERFACE_TOL:
+    prob.rtol = (min(max(_RTOL_FLOOR, 1e-3 * prob.accept), _RTOL_CAP) if prob.adaptive
+                 else _RTOL_FLOOR)
+    if prob.c and tol > _INTERFACE_TOL:
         warnings.warn(
             f"compliant interface: the half-width converges slowly and unevenly from coarse "
             f"grids and the error estimate may be below the true error at tol {tol:g} (measured "
             f"0.6 times at tol 1e-2); use tol <= {_INTERFACE_TOL:g}", UserWarning, stacklevel=3)
-    # or the exponential law p = p0 exp(-g/lambda): no contact set (numerics.interface)
-    exponential = scene.interface_law == "exponential"
+    return run(_LineSolve(prob, grid_points, domain_length))
 
-    def contact(grid, p_init=None, locator=False):
-        if exponential:
-            s_ = solve_exponential_contact(grid, mu_contact, indenter[0], scene.interface_p0,
-                                           scene.interface_lambda, film=film, p_init=p_init,
-                                           rtol=accept)
+
+class _LineSolve:
+    """The line's steps of the one driver (``fft_driver.run``; module docstring, steps 1-4)."""
+
+    def __init__(self, prob: Problem, grid_points, domain_length):
+        self.prob, self.scene = prob, prob.scene
+        self.grid_points, self.domain_length = grid_points, domain_length
+        # the exponential law p = p0 exp(-g/lambda): no contact set (numerics.interface)
+        self.exponential = self.scene.interface_law == "exponential"
+        self.indenter = None  # the cylinder, or a height function (made when loaded)
+        self.image_amplitude = _IMAGE_AMPLITUDE * max(1.0, abs(prob.mu_contact) / 10.0)
+
+    def unloaded(self) -> ContactResult:
+        """P = 0: no contact, zero fields."""
+        prob = self.prob
+        L = self.domain_length or prob.margin
+        g = Grid.centered(self.grid_points or MIN_POINTS, L)
+        z = np.zeros(g.n)
+        return ContactResult(prob.scene, prob.model, "fft", g.x, z, z.copy(), z.copy(), 0.0, 0.0,
+                             0.0, 0.0, 0.0, g.n, L, 0, 0.0, 0.0, time.perf_counter() - prob.t0,
+                             0.0, {"fft_pairs": 0})
+
+    def shortcut(self):
+        """None: a line has no other path (surfaces: the open box)."""
+        return None
+
+    def period(self, located):
+        """A user-fixed period checked against the located contact; the automatic one is set
+        by ``refine`` (it may be lengthened: the images' effect, measured)."""
+        self.check_period(located[1])
+        return located
+
+    def contact(self, grid, p_init=None, locator=False):
+        prob, scene = self.prob, self.scene
+        if self.exponential:
+            s_ = solve_exponential_contact(grid, prob.mu_contact, self.indenter[0],
+                                           scene.interface_p0, scene.interface_lambda,
+                                           film=prob.film, p_init=p_init, rtol=prob.accept)
             s_.soft = True
             return s_
-        # the same inner tolerances on every path (a proportional law stays Amontons bit for bit)
-        rt, acc = ((max(rtol, _LOCATOR_RTOL), max(accept, _LOCATOR_ACCEPT)) if locator and adaptive
-                   else (rtol, accept))
-        search = _LOCATOR_SEARCH_RTOL if locator and adaptive else None
-        if not with_law and c == 0.0:
-            return solve_contact(grid, mu_contact, indenter, film=film, p_init=p_init, rtol=rt,
-                                 accept=acc, search_rtol=search)
-        s_, _, li = solve_contact_law(grid, law if with_law else ShearLaw("amontons", mu=mu_contact),
-                                      indenter, film=film, interface=c, p_init=p_init,
-                                      accept=acc, rtol=rt, law_tol=accept, search_rtol=search)
-        law_iterations[0] += li["law_iterations"]
-        return s_
+        return prob.solve_contact(grid, self.indenter, prob.film, p_init, locator)
 
-    if P == 0.0:
-        L = domain_length or margin
-        g = Grid.centered(grid_points or MIN_POINTS, L)
-        z = np.zeros(g.n)
-        return ContactResult(scene, model, "fft", g.x, z, z.copy(), z.copy(), 0.0, 0.0, 0.0, 0.0,
-                             0.0, g.n, L, 0, 0.0, 0.0, time.perf_counter() - t0, 0.0,
-                             {"fft_pairs": 0})
+    def _a_bound(self) -> float:
+        """An upper bound of the frictionless half-width.  Both the Hertz half-space width
+        (P = 2 pi a^2) and the thin-layer width (w = -p''/3: P = 4 a^5 / 15) bound it
+        (studies/stability); the smaller one sizes the first grid."""
+        P, film = self.prob.P, self.prob.film
+        a_bound = min(math.sqrt(P / (2 * math.pi)), (3.75 * P) ** 0.2)
+        if not film.incompressible:
+            # compressible: Hertz with E* = 2G/(1 - nu) (P = pi a^2/(1 - nu)); a thin
+            # compressible layer is a Winkler foundation of compliance H(0) (P = 4 a^3 /
+            # (3 H(0))), wider than the incompressible thin layer: the larger of the two
+            a_bound = min(math.sqrt(P * (1.0 - self.scene.poisson) / math.pi),
+                          max((3.75 * P) ** 0.2, (0.75 * film.uniform_compliance * P) ** (1.0 / 3.0)))
+        if self.scene.height is not None:  # a user's line indenter: the bound it was given
+            a_bound = self.indenter[0].extent_bound()
+        return a_bound
 
-    indenter = [scene.indenter_object()]  # the cylinder, or a user's height function
-    fft_pairs = 0
-    krylov = 0
-    outer = 0
-    levels = []
+    def locate(self):
+        """1. the contact on a coarse, generous grid.  Strong friction widens the contact
+        beyond the bounds (a = 29 h against a bound of 10 h at P = 2.7e4, mu = 30): a locator
+        whose contact fills its period is redone on a period twice as long, with the same
+        spacing.  The locator never uses a user-fixed period."""
+        prob, gp = self.prob, self.grid_points
+        self.indenter = [self.scene.indenter_object()]
+        a_bound = self._a_bound()
+        L0 = 4.0 * a_bound + prob.margin
+        n0 = gp // 4 if gp else pow2_at_least(L0 / (2 * a_bound / _FIRST_ACROSS), MIN_POINTS)
+        n0 = max(MIN_POINTS, n0)
+        while True:
+            if n0 > MAX_POINTS:  # say so before allocating anything
+                raise InputError(
+                    f"the contact of this scene ({self.scene.extreme_parameter()}: half-width "
+                    f"~{a_bound:.2g} h) is too small for the FFT method's "
+                    f"periodic grid over {L0:.3g} h (~{n0:.1e} points > 2^22): use model hertz "
+                    f"or method abel")
+            g0 = Grid.centered(n0, L0)
+            sol = prob.count(self.contact(
+                g0, locator=True, p_init=_locator_guess(g0, prob.P, a_bound, prob.mu_contact)
+                if prob.adaptive and not self.exponential else None))
+            if not sol.active.all():
+                return sol, _measure(sol, prob.visco)
+            L0, n0 = 2.0 * L0, 2 * n0
 
-    # 1. locate the contact on a coarse, generous grid.  Both the Hertz half-space width
-    #    (P = 2 pi a^2) and the thin-layer width (w = -p''/3: P = 4 a^5 / 15) bound the
-    #    frictionless half-width from above (studies/stability); the smaller one sizes the first
-    #    grid.  Strong friction widens the contact beyond both (a = 29 h against a bound of 10 h
-    #    at P = 2.7e4, mu = 30): a locator whose contact fills its period is redone on a period
-    #    twice as long, with the same spacing.  The locator never uses a user-fixed period.
-    a_bound = min(math.sqrt(P / (2 * math.pi)), (3.75 * P) ** 0.2)
-    if not film.incompressible:
-        # compressible: Hertz with E* = 2G/(1 - nu) (P = pi a^2/(1 - nu)); a thin compressible
-        # layer is a Winkler foundation of compliance H(0) (P = 4 a^3 / (3 H(0))), wider than
-        # the incompressible thin layer: the larger of the two thin-layer widths
-        a_bound = min(math.sqrt(P * (1.0 - scene.poisson) / math.pi),
-                      max((3.75 * P) ** 0.2, (0.75 * film.uniform_compliance * P) ** (1.0 / 3.0)))
-    if scene.height is not None:  # a user's line indenter: the bound it was given
-        a_bound = indenter[0].extent_bound()
-    L0 = 4.0 * a_bound + margin
-    n0 = grid_points // 4 if grid_points else pow2_at_least(L0 / (2 * a_bound / _FIRST_ACROSS), MIN_POINTS)
-    n0 = max(MIN_POINTS, n0)
-    while True:
-        if n0 > MAX_POINTS:  # say so before allocating anything
+    def check_period(self, q) -> None:
+        """A user-fixed period must hold the contact plus the decay length of its images."""
+        dl, tol = self.domain_length, self.prob.tol
+        if dl is None:
+            return
+        need = 2.0 * q["a"] + math.log(2.0 * self.image_amplitude / tol) / self.prob.film.decay_rate
+        if dl < need:
+            L_unit = self.scene.length_unit
             raise InputError(
-                f"the contact of this scene ({scene.extreme_parameter()}: half-width "
-                f"~{a_bound:.2g} h) is too small for the FFT method's "
-                f"periodic grid over {L0:.3g} h (~{n0:.1e} points > 2^22): use model hertz or "
-                f"method abel")
-        g0 = Grid.centered(n0, L0)
-        sol = contact(g0, locator=True, p_init=_locator_guess(g0, P, a_bound, mu_contact)
-                      if adaptive and not exponential else None)
-        fft_pairs += sol.fft_pairs
-        krylov += sol.krylov_iterations
-        outer += sol.iterations
-        if not sol.active.all():
-            break
-        L0, n0 = 2.0 * L0, 2 * n0
-    q = _measure(sol, visco)
-    image_amplitude = _IMAGE_AMPLITUDE * max(1.0, abs(mu_contact) / 10.0)
-    if domain_length is not None:
-        # a user-fixed period must hold the contact plus the decay length of its images
-        need = 2.0 * q["a"] + math.log(2.0 * image_amplitude / tol) / film.decay_rate
-        if domain_length < need:
-            raise InputError(
-                f"domain_length {domain_length * scene.length_unit:.4g} m ({domain_length:.4g} h) "
-                f"is too short for this contact at tol "
-                f"{tol:g}: the period must hold the contact (2a = {2 * q['a']:.3g} h) plus "
+                f"domain_length {dl * L_unit:.4g} m ({dl:.4g} h) is too short for this contact "
+                f"at tol {tol:g}: the period must hold the contact (2a = {2 * q['a']:.3g} h) plus "
                 f"{need - 2 * q['a']:.3g} h for its periodic images to decay below tol/2: use at "
-                f"least {need:.4g} h (= {need * scene.length_unit:.4g} m), raise tol, or leave "
+                f"least {need:.4g} h (= {need * L_unit:.4g} m), raise tol, or leave "
                 f"domain_length automatic")
 
-    # 2. the period: contact plus the decay margin, centred on the contact.  Beyond the
-    #    friction where the images' amplitude was measured (|mu| <= _MU_IMAGES_MEASURED), their
-    #    effect is measured instead (4.): strong friction amplifies it far beyond the kernels'
-    #    exp(-0.739 s) (mu = 30, a = 29 h, tol 1e-3: a 1.5 % off with 16.8 h of free period),
-    #    and an automatic period is lengthened until it is below tol/4.
-    guard = 4 * sol.grid.dx
-    L = domain_length or (2 * q["a"] + margin + guard)
-    center = q["c"] if domain_length is None else 0.0
-    # (a viscoelastic film's relaxation tail: its images are measured too)
-    check_images = abs(mu_contact) > _MU_IMAGES_MEASURED or q["a"] > _A_IMAGES_MEASURED or visco
-    domain_diff = 0.0
-    for _attempt in range(_DOMAIN_ATTEMPTS):
-        sizes = _level_sizes(L, q["a"], tol, grid_points, domain_length,
-                             film.edge_scales() if visco else ())
-        # 3. grid levels on the period L
-        prev = qprev = None
-        est = float("inf")
-        last_step = None
-        levels = []
-        ests = []
-        for i, n in enumerate(sizes):
-            _log.info("%s model, fft: level %d, grid %d points over %.4g h%s", model, i + 1, n, L,
-                      f" (estimate so far {est:.1e}, tol {tol:.0e})" if est < math.inf else "")
-            g = Grid.centered(n, L, center)
-            # start from the locator's pressure (first level) or the previous level's
-            if prev is None:
-                def located(x, s0=sol):  # (np.interp is elementwise: only where it is kept)
-                    return np.interp(x, s0.grid.x, s0.pressure, period=s0.grid.length)
-                p_init = (_first_set(g, q["edges"], located) if adaptive and not exponential
-                          and q["edges"] else located(g.x))
-            else:
-                refined = refine_nested(prev.pressure)
-                # exponential interface: no contact set, the whole refined pressure
-                p_init = refined if exponential else _first_set(
-                    g, qprev["edges"], refined, _EDGE_REACH if adaptive else 0.0)
-            try:
-                cur = contact(g, p_init=p_init)
-                gs = Grid.centered(n, L, center + 0.5 * g.dx)
-                ps = cur.pressure.copy()  # 0.5 (p + np.roll(p, -1)), without np.roll's overhead
-                ps[:-1] += cur.pressure[1:]
-                ps[-1] += cur.pressure[0]
-                ps *= 0.5
-                q0 = _measure(cur, visco)
-                if adaptive and not exponential and q0["edges"]:
-                    # the first active set from cur's fitted edges (the midpoint beyond an
-                    # edge has p > 0 but is mostly out of contact: one active-set step less)
-                    ps = _first_set(gs, q0["edges"], ps)
-                shifted = contact(gs, p_init=ps)
-            except ConvergenceError:
-                # the coarsest automatic level may not settle (strong friction: mu = 30 at
-                # a = 29 h on 64 points); start the comparison one level finer instead
-                if prev is None and not grid_points and i + 2 < len(sizes) and i < 2:
-                    continue
-                raise
-            for s_ in (cur, shifted):
-                fft_pairs += s_.fft_pairs
-                krylov += s_.krylov_iterations
-                outer += s_.iterations
-            residual = max(cur.residual, shifted.residual)
-            q1 = _measure(shifted, visco)
-            qcur = _average(q0, q1)
-            shift_diff = _difference(q0, q1)
-            levels.append((n, qcur))
-            if prev is not None:
-                # convergence in N is not monotone (edges move across nodes): also require the
-                # previous difference, halved as first order predicts, and what is left of the
-                # phase error after averaging (a quarter of the shift difference, measured)
-                step = _steps(qcur, qprev)
-                diff = float(np.max(np.abs(step)))
-                image_error = image_amplitude * math.exp(-film.decay_rate * max(L - 2.0 * qcur["a"], 0.0))
-                disc = _discretisation_error(step, last_step, shift_diff, soft_edges=bool(c))
-                if visco:
-                    disc += _unresolved_edges(film.edge_scales(), qcur["a"], g.dx)
-                est = disc + image_error
-                parts = {"level_difference": diff, "shift_difference": shift_diff,
-                         "previous_difference": (float(np.max(np.abs(last_step)))
-                                                 if last_step is not None else 0.0)}
-                last_step = step
-                ests.append(est)
-                if grid_points or (est <= tol and i >= 2):
-                    break
-                k = _STAGNATION_DOUBLINGS
-                if len(ests) > k and ests[-1] > 0.9 * ests[-k - 1]:
-                    # first order divides the estimate by ~2 per doubling: three doublings that
-                    # take off less than 10 % mean the levels have stopped converging (seen at
-                    # |mu| >= 30: the estimate settles at 1.9e-3 or 4.5e-2, the grid and the
-                    # shifted grid holding different solutions)
-                    raise ConvergenceError(
-                        f"grid refinement stagnates: error estimate {ests[-k - 1]:.1e} at N = "
-                        f"{n >> k} and still {est:.1e} at N = {n} > tol {tol:.1e}; the scene is "
-                        f"beyond the FFT method's range at this tol (try method abel)",
-                        residuals=ests, iterations=len(levels))
-            prev, qprev = cur, qcur
-        else:
-            raise ConvergenceError(
-                f"grid refinement reached N = {sizes[-1]} points with error estimate {est:.1e} > "
-                f"tol {tol:.1e}; raise tol or set grid_points", residuals=ests or [est],
-                iterations=len(levels))
-        if not check_images:
-            break
-        # 4. the images' effect, measured: the final level's nodes on the period 2L
-        g2 = Grid.centered(2 * n, 2 * L, center)
-        far = contact(g2, p_init=np.interp(g2.x, g.x, cur.pressure, period=L)
-                      * (np.abs(g2.x - center) < 0.5 * L))
-        fft_pairs += far.fft_pairs
-        krylov += far.krylov_iterations
-        outer += far.iterations
-        domain_diff = _difference(_measure(far, visco), q0)
-        image_error = max(image_error, domain_diff)
-        est = disc + image_error
-        if domain_length is not None or domain_diff <= 0.25 * tol:
-            break
-        L = 2 * q["a"] + 2 * (L - 2 * q["a"])  # twice the free length
-    else:
+    def refine(self, located):
+        """2.-4. the period (contact plus the decay margin, centred on the contact) and the
+        grid levels on it; beyond the friction where the images' amplitude was measured
+        (|mu| <= _MU_IMAGES_MEASURED), their effect is measured instead: strong friction
+        amplifies it far beyond the kernels' exp(-0.739 s) (mu = 30, a = 29 h, tol 1e-3: a 1.5 %
+        off with 16.8 h of free period), and an automatic period is lengthened until it is
+        below tol/4.  Returns the final level (``_Level``)."""
+        sol, q = located
+        prob, tol = self.prob, self.prob.tol
+        guard = 4 * sol.grid.dx
+        L = self.domain_length or (2 * q["a"] + prob.margin + guard)
+        center = q["c"] if self.domain_length is None else 0.0
+        # (a viscoelastic film's relaxation tail: its images are measured too)
+        check_images = (abs(prob.mu_contact) > _MU_IMAGES_MEASURED or q["a"] > _A_IMAGES_MEASURED
+                        or prob.visco)
+        domain_diff = 0.0
+        for _attempt in range(_DOMAIN_ATTEMPTS):
+            lv = self.levels(sol, q, L, center)
+            if not check_images:
+                return lv
+            # 4. the images' effect, measured: the final level's nodes on the period 2L
+            g2 = Grid.centered(2 * lv.n, 2 * L, center)
+            far = prob.count(self.contact(
+                g2, p_init=np.interp(g2.x, lv.grid.x, lv.cur.pressure, period=L)
+                * (np.abs(g2.x - center) < 0.5 * L)))
+            domain_diff = _difference(_measure(far, prob.visco), lv.q0)
+            lv.image_error = max(lv.image_error, domain_diff)
+            lv.est = lv.disc + lv.image_error
+            lv.domain_diff = domain_diff
+            if self.domain_length is not None or domain_diff <= 0.25 * tol:
+                return lv
+            L = 2 * q["a"] + 2 * (L - 2 * q["a"])  # twice the free length
         raise ConvergenceError(
             f"the periodic images still change the solution by {domain_diff:.1e} > tol/4 with a "
             f"period of {L / 2:.4g} h (contact {2 * q['a']:.3g} h): the scene is beyond the FFT "
             f"method's range at tol {tol:g}", residuals=[domain_diff], iterations=_DOMAIN_ATTEMPTS)
 
-    sol, q = cur, qcur
-    p = sol.pressure
-    if friction.is_amontons:
-        shear = None
-        szz, (sxz,) = film.base_stresses(get_rfft(sol.grid.shape), sol.grid, -p, (scene.mu * p,))
-    else:  # exact: the law's shear of the coupled solve; goodman: the law on the frictionless p
-        shear = sol.shear if with_law else law.shear(p)
-        szz, (sxz,) = film.base_stresses(get_rfft(sol.grid.shape), sol.grid, -p, (shear,))
-    fft_pairs += 2
-    total = time.perf_counter() - t0
-    plan_time = planning_time() - plans0
-    info = {
-        "fft_pairs": fft_pairs,
-        "krylov_iterations": krylov,
-        "final_level_active_set_iterations": sol.iterations,
-        "final_level_krylov_iterations": sol.krylov_iterations,
-        "levels": [(n, lv["a"], lv["c"], lv["d"], lv["pmax"]) for n, lv in levels],
-        "residuals": sol.residuals,
-        "edges": q["edges"],
-        "domain_margin": margin,
-        "poisson": scene.poisson,
-        "image_error": image_error,
-        "estimate_parts": parts,
-        "domain_difference": domain_diff,
-        "tolerance_met": bool(est <= tol),
-    }
-    if not friction.is_amontons:
-        info["friction_law_iterations"] = law_iterations[0]
-    if visco:  # the averaged centroid (the error estimate covers it: _steps)
-        info["pressure_centroid"] = q["m"]
-        info["tail_length"] = film.tail_length
-    if c:
-        info["interface_compliance"] = c
-    if exponential:
-        info["width_definition"] = (f"exponential interface: no sharp edges; the contact window "
-                                    f"is where p >= {EDGE_FRACTION:g} p_max")
-    return ContactResult(
-        scene=scene, model=model, method="fft", x=sol.grid.x, pressure=p,
-        base_sigma_zz=szz, base_sigma_xz=sxz, half_width=q["a"], center=q["c"],
-        indentation=q["d"], max_pressure=q["pmax"], max_pressure_x=q["xmax"],
-        grid_points=sol.grid.n, domain_length=sol.grid.length, iterations=sol.iterations,
-        residual=residual, error_estimate=est, wall_time_s=total - plan_time,
-        plan_time_s=plan_time, info=info,
-        counters={"transforms": fft_pairs, "iterations": outer, "linear_iterations": krylov},
-        shear=shear)
+    def start(self, g, sol, q, prev, qprev):
+        """The nested start of a level: the locator's pressure (first level) or the previous
+        level's, refined, with the first active set from the fitted edges."""
+        adaptive = self.prob.adaptive
+        if prev is None:
+            def located(x, s0=sol):  # (np.interp is elementwise: only where it is kept)
+                return np.interp(x, s0.grid.x, s0.pressure, period=s0.grid.length)
+            return (_first_set(g, q["edges"], located) if adaptive and not self.exponential
+                    and q["edges"] else located(g.x))
+        refined = refine_nested(prev.pressure)
+        # exponential interface: no contact set, the whole refined pressure
+        return refined if self.exponential else _first_set(
+            g, qprev["edges"], refined, _EDGE_REACH if adaptive else 0.0)
+
+    def solve_level(self, g, p_init):
+        """A level: the grid and the grid shifted by half a cell (4.); (cur, q0, q1)."""
+        visco = self.prob.visco
+        cur = self.contact(g, p_init=p_init)
+        gs = Grid.centered(g.n, self._L, self._center + 0.5 * g.dx)
+        ps = cur.pressure.copy()  # 0.5 (p + np.roll(p, -1)), without np.roll's overhead
+        ps[:-1] += cur.pressure[1:]
+        ps[-1] += cur.pressure[0]
+        ps *= 0.5
+        q0 = _measure(cur, visco)
+        if self.prob.adaptive and not self.exponential and q0["edges"]:
+            # the first active set from cur's fitted edges (the midpoint beyond an edge has
+            # p > 0 but is mostly out of contact: one active-set step less)
+            ps = _first_set(gs, q0["edges"], ps)
+        shifted = self.contact(gs, p_init=ps)
+        return cur, shifted, q0, _measure(shifted, visco)
+
+    def levels(self, sol, q, L, center):
+        """3. grid levels on the period L (doubling N) until the estimate is below tol."""
+        prob, tol, gp = self.prob, self.prob.tol, self.grid_points
+        film = prob.film
+        sizes = _level_sizes(L, q["a"], tol, gp, self.domain_length,
+                             film.edge_scales() if prob.visco else ())
+        self._L, self._center = L, center
+        prev = qprev = last_step = None
+        est = float("inf")
+        lv = _Level(levels=[], ests=[])
+        for i, n in enumerate(sizes):
+            prob.level(i + 1, (n,), (L,), est)
+            g = Grid.centered(n, L, center)
+            try:
+                cur, shifted, q0, q1 = self.solve_level(g, self.start(g, sol, q, prev, qprev))
+            except ConvergenceError:
+                # the coarsest automatic level may not settle (strong friction: mu = 30 at
+                # a = 29 h on 64 points); start the comparison one level finer instead
+                if prev is None and not gp and i + 2 < len(sizes) and i < 2:
+                    continue
+                raise
+            prob.count(cur)
+            prob.count(shifted)
+            qcur = _average(q0, q1)
+            lv.update(n=n, grid=g, cur=cur, q0=q0, qcur=qcur,
+                      residual=max(cur.residual, shifted.residual))
+            lv.levels.append((n, qcur))
+            if prev is not None:
+                last_step, est = self.estimate(lv, qprev, last_step, _difference(q0, q1), L)
+                if gp or (est <= tol and i >= 2):
+                    return lv
+                _check_stagnation(lv.ests, n, est, tol, len(lv.levels))
+            prev, qprev = cur, qcur
+        raise ConvergenceError(
+            f"grid refinement reached N = {sizes[-1]} points with error estimate {est:.1e} > "
+            f"tol {tol:.1e}; raise tol or set grid_points", residuals=lv.ests or [est],
+            iterations=len(lv.levels))
+
+    def estimate(self, lv, qprev, last_step, shift_diff, L):
+        """The level's error estimate: convergence in N is not monotone (edges move across
+        nodes): also the previous difference, halved as first order predicts, and what is left
+        of the phase error after averaging (a quarter of the shift difference, measured); plus
+        the periodic images' and the unresolved viscoelastic edges'.  (step, estimate)."""
+        prob, qcur = self.prob, lv.qcur
+        step = _steps(qcur, qprev)
+        diff = float(np.max(np.abs(step)))
+        lv.image_error = self.image_amplitude * math.exp(
+            -prob.film.decay_rate * max(L - 2.0 * qcur["a"], 0.0))
+        lv.disc = _discretisation_error(step, last_step, shift_diff, soft_edges=bool(prob.c))
+        if prob.visco:
+            lv.disc += _unresolved_edges(prob.film.edge_scales(), qcur["a"], lv.grid.dx)
+        lv.est = lv.disc + lv.image_error
+        lv.parts = {"level_difference": diff, "shift_difference": shift_diff,
+                    "previous_difference": (float(np.max(np.abs(last_step)))
+                                            if last_step is not None else 0.0)}
+        lv.ests.append(lv.est)
+        return step, lv.est
+
+    def result(self, lv) -> ContactResult:
+        """The final level's ContactResult: base stresses, info, counters."""
+        prob, scene = self.prob, self.scene
+        sol, q, film = lv.cur, lv.qcur, prob.film
+        p = sol.pressure
+        shear = prob.surface_shear(sol, p)
+        szz, (sxz,) = film.base_stresses(get_rfft(sol.grid.shape), sol.grid, -p,
+                                         (scene.mu * p if shear is None else shear,))
+        prob.counters["transforms"] += 2
+        wall, plan_time = prob.times()
+        info = {
+            "fft_pairs": prob.counters["transforms"],
+            "krylov_iterations": prob.counters["linear_iterations"],
+            "final_level_active_set_iterations": sol.iterations,
+            "final_level_krylov_iterations": sol.krylov_iterations,
+            "levels": [(n, v["a"], v["c"], v["d"], v["pmax"]) for n, v in lv.levels],
+            "residuals": sol.residuals,
+            "edges": q["edges"],
+            "domain_margin": prob.margin,
+            "poisson": scene.poisson,
+            "image_error": lv.image_error,
+            "estimate_parts": lv.parts,
+            "domain_difference": lv.domain_diff,
+            "tolerance_met": bool(lv.est <= prob.tol),
+        }
+        if not prob.friction.is_amontons:
+            info["friction_law_iterations"] = prob.law_iterations
+        if prob.visco:  # the averaged centroid (the error estimate covers it: _steps)
+            info["pressure_centroid"] = q["m"]
+            info["tail_length"] = film.tail_length
+        if prob.c:
+            info["interface_compliance"] = prob.c
+        if self.exponential:
+            info["width_definition"] = (f"exponential interface: no sharp edges; the contact "
+                                        f"window is where p >= {EDGE_FRACTION:g} p_max")
+        return ContactResult(
+            scene=scene, model=prob.model, method="fft", x=sol.grid.x, pressure=p,
+            base_sigma_zz=szz, base_sigma_xz=sxz, half_width=q["a"], center=q["c"],
+            indentation=q["d"], max_pressure=q["pmax"], max_pressure_x=q["xmax"],
+            grid_points=sol.grid.n, domain_length=sol.grid.length, iterations=sol.iterations,
+            residual=lv.residual, error_estimate=lv.est, wall_time_s=wall,
+            plan_time_s=plan_time, info=info, counters=dict(prob.counters), shear=shear)
 
 
-@register
-class FFTMethod(Method):
-    """The spectral method: periodic grid, film symbols by FFT, active set + GMRES.
+class _Level:
+    """The state of the finest level solved so far (``_LineSolve.levels``)."""
 
-    Options: ``grid_points`` (even, 64 ... 2^22; a power of two is fastest) and
-    ``domain_length`` (the period, in h, > 0), each fixed instead of chosen from ``tol``."""
+    def __init__(self, levels, ests):
+        self.levels, self.ests = levels, ests
+        self.image_error = self.disc = self.est = math.inf
+        self.parts, self.domain_diff = {}, 0.0
 
-    name = "fft"
+    def update(self, **kw):
+        self.__dict__.update(kw)
 
-    def __init__(self, tol: float = 1e-4, grid_points=None, domain_length=None):
-        super().__init__(tol)
-        # the options' meaning depends on the scene: checked in solve (line: here; 3D: per axis,
-        # by solvers.fft3d)
-        self.grid_points = grid_points
-        self.domain_length = domain_length
 
-    def _line_options(self):
-        grid_points, domain_length = self.grid_points, self.domain_length
-        if np.ndim(grid_points) or np.ndim(domain_length):
-            raise InputError("grid_points and domain_length are single numbers for a line "
-                             "indenter (pairs [nx, ny], [Lx, Ly] are for 3D indenters)")
-        shown = f"[{MIN_POINTS}, {MAX_POINTS}] (2^22)"
-        big = check_grid_points(grid_points, MIN_POINTS, 2**62, "fft grid points", even=True,
-                                shown=shown) \
-            if isinstance(grid_points, (int, float)) and grid_points > MAX_POINTS else None
-        if big is not None:  # before allocating anything
-            raise InputError(
-                f"{named('grid_points')} (fft grid points) must be in {shown}; {big} would need "
-                f"~{big * _BYTES_PER_POINT / 1e9:.1f} GB")
-        grid_points = check_grid_points(grid_points, MIN_POINTS, MAX_POINTS, "fft grid points",
-                                        even=True, shown=shown)
-        if domain_length is not None:
-            domain_length = check_positive("domain_length", domain_length, "h")
-        return grid_points, domain_length
-
-    def solve(self, scene, model: str, progress=None):
-        """A ContactResult for a plane-strain ``Scene``; a ContactResult3D for a ``Scene3D``."""
-        model = self.check_model(model)
-        if isinstance(scene, Scene3D):
-            return solve_fft3d(scene, model, self.tol, self.grid_points, self.domain_length,
-                               progress=progress)
-        grid_points, domain_length = self._line_options()
-        return solve_fft(scene, model, self.tol, grid_points, domain_length)
+def _check_stagnation(ests, n, est, tol, levels: int) -> None:
+    """First order divides the estimate by ~2 per doubling: three doublings that take off less
+    than 10 % mean the levels have stopped converging (seen at |mu| >= 30: the estimate
+    settles at 1.9e-3 or 4.5e-2, the grid and the shifted grid holding different solutions)."""
+    k = _STAGNATION_DOUBLINGS
+    if len(ests) > k and ests[-1] > 0.9 * ests[-k - 1]:
+        raise ConvergenceError(
+            f"grid refinement stagnates: error estimate {ests[-k - 1]:.1e} at N = "
+            f"{n >> k} and still {est:.1e} at N = {n} > tol {tol:.1e}; the scene is "
+            f"beyond the FFT method's range at this tol (try method abel)",
+            residuals=ests, iterations=levels)

@@ -40,17 +40,18 @@ import time
 
 import numpy as np
 
-from ..errors import ConvergenceError, InputError
+from ..errors import ConvergenceError, InputError, named
 from ..numerics.contact import solve_contact
 from ..numerics.edges import fit_edges, peak
 from ..numerics.fft import get_rfft
 from ..numerics.grid import Grid, pow2_at_least
-from ..numerics.partial_slip import PartialSlipOperator, SlipState, solve_slip_step
+from ..numerics.partial_slip import SlipState
 from ..physics.film import Film
 from ..physics.indenters import Cylinder
 from ..physics.scene import Scene, Scene3D, check_tol
-from .base import check_grid_points
+from .base import ONSET_MU_MIN, check_grid_points, check_onset_mu  # noqa: F401 (re-exported)
 from .fft import MAX_POINTS, MIN_POINTS, solve_fft
+from .onset_core import Dimension, LoadingRun, differences, refine, step_record
 
 __all__ = ["onset", "solve_onset", "OnsetResult", "STEP_KEYS", "PROFILE_COLUMNS", "MAX_STEPS",
            "LOADINGS", "DEFAULT_TOL"]
@@ -62,7 +63,6 @@ level, and the contact edges of a partial-slip state converge less regularly tha
 ones (the stick-zone edges move across nodes at every step): at the paper's scene and tol
 1e-4 the levels go to 2^14-2^15 points (studies/onset)."""
 LOADINGS = ("frictional", "frictionless")
-_LEVEL_MARGIN = 1.5  # as solvers.fft's estimate: 1.5 x the difference of the last two levels
 _IMAGE_AMPLITUDE = 2.0  # solvers.fft's bound of the periodic images' relative effect
 _MAX_DOUBLINGS = 3
 
@@ -94,8 +94,7 @@ def check_onset_scene(scene) -> Scene:
     if scene.interface_compliance or scene.interface_law != "linear":
         raise InputError("--interface-compliance / --interface-law: onset takes a rigid "
                          "interface only")
-    if scene.mu == 0.0:
-        raise InputError("--mu must be != 0 for onset (the tangential load goes up to mu P)")
+    check_onset_mu(scene.mu)
     if scene.load <= 0.0:
         raise InputError("--load must be > 0 N/m for onset")
     return scene
@@ -105,7 +104,7 @@ def _check_amplitude(amplitude) -> float:
     amp = amplitude if isinstance(amplitude, (int, float)) and not isinstance(amplitude, bool) \
         else math.nan
     if not 0.0 < amp <= 1.0:
-        raise InputError(f"amplitude (--amplitude) must be in (0, 1] (Q_max / (mu P)); got "
+        raise InputError(f"{named('amplitude')} must be in (0, 1] (Q_max / (mu P)); got "
                          f"{amplitude!r:.40}")
     return float(amp)
 
@@ -163,62 +162,29 @@ def _predict(s0: SlipState, s1: SlipState) -> SlipState | None:
                      sigma=sigma.astype(np.int8), P=s1.P, Q=s1.Q)
 
 
-class _Run:
-    """The whole loading on one grid: the states after the normal loading and after each
-    tangential step, and their measurements."""
+class _Line(Dimension):
+    """The line's part of the loading (``onset_core``): the cylinder's heights x^2, Q a
+    number, the predicted intervals of ``_predict`` (also across a reversal), the sub-grid
+    edges of ``fit_edges`` and ``_stick_edges``."""
 
-    def __init__(self, grid, film, P, mu, path, loading, loading_steps, accept, progress=None):
-        self.grid = grid
-        op = PartialSlipOperator(grid, film)
-        f = grid.x ** 2
-        n = grid.n
-        amu = abs(mu)
-        counters = {"fft_pairs": 0, "krylov_iterations": 0, "iterations": 0}
+    predict_loading = False
+    predict_reversals = True
+    unloaded = staticmethod(SlipState.unloaded)
 
-        def count(s):
-            counters["fft_pairs"] += s.fft_pairs
-            counters["krylov_iterations"] += s.krylov_iterations
-            counters["iterations"] += s.iterations
+    def heights(self, grid):
+        return grid.x ** 2
 
-        # the frictionless contact at the first load: first sets (and the frictionless start)
-        P1 = P / loading_steps if loading == "frictional" else P
+    def first_contact(self, grid, film, P1, accept):
         s0 = solve_contact(grid, 0.0, [Cylinder(0.0, P1)], rtol=1e-10, accept=accept)
-        counters["fft_pairs"] += s0.fft_pairs
-        if loading == "frictional":
-            state = SlipState.unloaded(n)
-            guess = SlipState.unloaded(n)
-            guess.contact = s0.active.copy()
-            guess.stick = s0.active.copy()
-            guess.p = s0.pressure.copy()
-            guess.d = float(s0.indentations[0])
-            for k in range(1, loading_steps + 1):
-                state = solve_slip_step(op, f, state, P * k / loading_steps, 0.0, amu,
-                                        guess=guess if k == 1 else None, accept=accept)
-                count(state)
-        else:
-            p = s0.pressure.copy()
-            w, u = op.apply(p, np.zeros(n))
-            counters["fft_pairs"] += 2
-            state = SlipState(p=p, q=np.zeros(n), w=w, u=u, d=float(s0.indentations[0]),
-                              delta=0.0, contact=s0.active.copy(), stick=s0.active.copy(),
-                              sigma=np.zeros(n, dtype=np.int8), P=P, Q=0.0, slip=np.zeros(n))
-        self.loaded = state
-        self.states = []
-        sgn = 1.0 if mu > 0 else -1.0
-        steps = len(path)
-        for k in range(1, steps + 1):
-            guess = _predict(self.states[-2], self.states[-1]) if k >= 3 else None
-            state = solve_slip_step(op, f, state, P, sgn * amu * P * path[k - 1], amu,
-                                    guess=guess, accept=accept)
-            count(state)
-            self.states.append(state)
-            if progress:
-                progress(k, steps, grid.n)
-        self.counters = counters
-        self.measures = [self.measure(s, f, amu) for s in [self.loaded] + self.states]
+        return s0.active, s0.pressure, float(s0.indentations[0]), s0.fft_pairs
 
-    def measure(self, s, f, amu):
-        g = self.grid
+    def tangential(self, Q):
+        return Q
+
+    def predict(self, s0, s1, f, mu):
+        return _predict(s0, s1)
+
+    def measure(self, g, s, f, amu):
         gap = f - s.d + s.w
         edges = fit_edges(g.x, g.dx, gap, s.p, s.contact)
         left = min(e[0] for e in edges)
@@ -231,21 +197,10 @@ class _Run:
 
 
 def _differences(fine, coarse):
-    """Per step: the largest relative difference of the two runs' a, centre (over a),
-    indentation, peak pressure and tangential displacement (over its largest value), and that
-    of the stick zone's edges (over a; 0 once the stick zone is a single node)."""
-    main, stick = [], []
-    dscale = max(max(abs(m["delta"]) for m in fine.measures), 1e-300)
-    for mf, mc in zip(fine.measures, coarse.measures):
-        a = max(mf["a"], 1e-300)
-        main.append(max(abs(mf["a"] - mc["a"]) / a, abs(mf["c"] - mc["c"]) / a,
-                        abs(mf["d"] - mc["d"]) / max(abs(mf["d"]), 1e-300),
-                        abs(mf["pmax"] - mc["pmax"]) / max(mf["pmax"], 1e-300),
-                        abs(mf["delta"] - mc["delta"]) / dscale))
-        stick.append(max(abs(mf["stick_lo"] - mc["stick_lo"]) / a,
-                         abs(mf["stick_hi"] - mc["stick_hi"]) / a)
-                     if mf["stick_nodes"] > 1 and mc["stick_nodes"] > 1 else 0.0)
-    return main, stick
+    """Per step: ``onset_core.differences`` of the half-width and centre, and of the stick
+    zone's edges (over a)."""
+    return differences(fine, coarse, "a", "c", lambda mf, mc, a: max(
+        abs(mf["stick_lo"] - mc["stick_lo"]) / a, abs(mf["stick_hi"] - mc["stick_hi"]) / a))
 
 
 def q_path(steps: int, amplitude: float = 1.0, cycle: bool = False) -> list[float]:
@@ -313,10 +268,10 @@ def onset(scene: Scene | None = None, *, steps: int = 20, tol: float | None = No
         loading_steps = _check_int("loading_steps (--loading-steps)", loading_steps, 1,
                                    MAX_STEPS)
         if loading not in LOADINGS:
-            raise InputError(f"loading (--loading) must be one of {', '.join(LOADINGS)}; got "
+            raise InputError(f"{named('loading')} must be one of {', '.join(LOADINGS)}; got "
                              f"{loading!r}")
         amp = _check_amplitude(amplitude)
-        grid_points = check_grid_points(grid_points, 32, 8192, "grid_points (--grid-points)",
+        grid_points = check_grid_points(grid_points, 32, 8192, "the onset's grid",
                                         even=True)
         L_h = None
         if domain_length is not None:
@@ -358,10 +313,10 @@ def solve_onset(scene: Scene, steps: int = 20, tol: float = DEFAULT_TOL, *, load
     loading_steps = _check_int("loading_steps (--loading-steps)", loading_steps, 1, MAX_STEPS)
     path = q_path(steps, _check_amplitude(amplitude), bool(cycle))
     if loading not in LOADINGS:
-        raise InputError(f"loading (--loading) must be one of {', '.join(LOADINGS)}; got {loading!r}")
+        raise InputError(f"{named('loading')} must be one of {', '.join(LOADINGS)}; got {loading!r}")
     tol = check_tol(tol)
     grid_points = check_grid_points(grid_points, MIN_POINTS, MAX_POINTS,
-                                    "grid_points (--grid-points)", even=True)
+                                    "the onset's grid", even=True)
     film = Film(poisson=scene.poisson)
     P, mu = scene.P, scene.mu
     accept = max(1e-8, 1e-2 * tol)
@@ -393,25 +348,15 @@ def solve_onset(scene: Scene, steps: int = 20, tol: float = DEFAULT_TOL, *, load
                          f"in the estimate)")
 
     def run(npts):
-        return _Run(Grid.centered(npts, L, center), film, P, mu, path, loading, loading_steps,
-                    accept, progress)
+        return LoadingRun(_Line(), Grid.centered(npts, L, center), film, P, mu, path, loading,
+                          loading_steps, accept, progress)
 
-    coarse = run(n // 2)
-    fine = run(n)
-    doublings = 0
-    while True:
-        diff, sdiff = _differences(fine, coarse)
-        est = [_LEVEL_MARGIN * e + image for e in diff]
-        if grid_points or max(est) <= tol or doublings >= _MAX_DOUBLINGS or 2 * n > MAX_POINTS:
-            break
-        coarse, fine, n = fine, run(2 * n), 2 * n
-        doublings += 1
-    met = max(est) <= tol
+    fine, est, stick_est, met, n, doublings, counters = refine(
+        run, n, tol, image, _differences, fixed=bool(grid_points),
+        max_doublings=_MAX_DOUBLINGS, max_points=MAX_POINTS)
     if not met and not grid_points:
         raise ConvergenceError(f"onset: error estimate {max(est):.1e} > tol {tol:g} at N = {n}; "
                                f"raise tol", residuals=est, iterations=doublings)
-    counters = {k: fine.counters[k] + coarse.counters[k] for k in fine.counters}
-    stick_est = [_LEVEL_MARGIN * e for e in sdiff]
     return OnsetResult(scene=scene, path=path, loading=loading, loading_steps=loading_steps,
                        tol=tol, run=fine, estimates=est, stick_estimates=stick_est,
                        steady=steady, tolerance_met=met,
@@ -466,21 +411,11 @@ class OnsetResult:
     # --- SI ------------------------------------------------------------------------------------
     def _si_step(self, k: int) -> dict:
         sc, m = self.scene, self.measures[k]
-        h, dU, sU = sc.length_unit, sc.displacement_unit, sc.stress_unit
-        r = float(self.Q_over_muP[k])
-        return {
-            "Q_over_muP": r,
-            "tangential_load_N_per_m": r * sc.mu * sc.load,
-            "stick_x_min_m": m["stick_lo"] * h,
-            "stick_x_max_m": m["stick_hi"] * h,
-            "half_width_m": m["a"] * h,
-            "contact_center_m": m["c"] * h,
-            "indentation_m": m["d"] * dU,
-            "max_pressure_Pa": m["pmax"] * sU,
-            "tangential_displacement_m": m["delta"] * dU,
-            "error_estimate": self.error_estimates[k],
-            "stick_error_estimate": self.stick_error_estimates[k],
-        }
+        h = sc.length_unit
+        return step_record(self, k, {
+            "tangential_load_N_per_m": float(self.Q_over_muP[k]) * sc.mu * sc.load,
+            "stick_x_min_m": m["stick_lo"] * h, "stick_x_max_m": m["stick_hi"] * h,
+            "half_width_m": m["a"] * h, "contact_center_m": m["c"] * h})
 
     def summary(self) -> dict:
         """The JSON record (SI): the scene's keys, the loading, and ``steps``: one object per

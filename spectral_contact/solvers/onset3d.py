@@ -1,5 +1,5 @@
 """The onset of sliding of a 3D indenter (sphere, paraboloid) on the film: partial slip under a
-growing tangential load along x, the slip direction solved (``numerics.partial_slip2d``).
+growing tangential load along x, the slip direction solved (``numerics.partial_slip``, the same driver as lines).
 
 As ``solvers.onset`` for lines: the normal load first (frictional in ``loading_steps`` steps,
 or frictionless), then Q = mu P k/N along x (with ``cycle``: down to -amplitude and back), the
@@ -28,16 +28,17 @@ from ..numerics.contact import solve_contact
 from ..numerics.fft import get_rfft
 from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.measure2d import measure_contact_2d
-from ..numerics.partial_slip2d import PartialSlipOperator2D, SlipState2D, solve_slip_step_2d
+from ..numerics.partial_slip import SlipState2D
 from ..physics.film import Film
 from ..physics.indenters import Paraboloid
 from ..physics.scene import Scene3D, check_tol
+from .base import check_onset_mu
 from .fft3d import MAX_POINTS_3D, MIN_POINTS_3D, solve_fft3d
+from .onset_core import Dimension, LoadingRun, differences, refine, step_record
 
 __all__ = ["solve_onset3d", "OnsetResult3D", "DEFAULT_TOL_3D", "STEP_KEYS_3D"]
 
 DEFAULT_TOL_3D = 1e-2
-_LEVEL_MARGIN = 1.5
 _IMAGE_AMPLITUDE = 2.0
 STEP_KEYS_3D = ("Q_over_muP", "tangential_force_N", "stick_area_m2", "stick_radius_m",
                 "stick_x_min_m", "stick_x_max_m", "contact_radius_m", "contact_center_m",
@@ -54,8 +55,7 @@ def check_onset_scene3d(scene) -> Scene3D:
                          f"only (Coulomb's |q| <= mu p)")
     if scene.interface_compliance:
         raise InputError("--interface-compliance: onset takes a rigid interface only")
-    if scene.mu == 0.0:
-        raise InputError("--mu must be != 0 for onset (the tangential load goes up to mu P)")
+    check_onset_mu(scene.mu)
     if scene.force <= 0.0:
         raise InputError("--force must be > 0 N for onset")
     return scene
@@ -93,72 +93,40 @@ def _predict(s0: SlipState2D, s1: SlipState2D, f: np.ndarray, mu: float):
     return g
 
 
-class _Run3D:
-    def __init__(self, grid, film, ind, P, mu, path, loading, loading_steps, accept,
-                 progress=None):
-        self.grid = grid
-        op = PartialSlipOperator2D(grid, film)
-        f = np.asarray(ind.height(grid), dtype=float).ravel()
-        n = grid.size
-        amu = abs(mu)
-        # the inner (GMRES) solves to 1e-2 of the accepted residual: the linear system's
-        # relative residual bounds the gap, stick and load rows' (max-norm) residuals
-        rtol = max(1e-10, 1e-2 * accept)
-        counters = {"fft_pairs": 0, "krylov_iterations": 0, "iterations": 0}
+class _Surface(Dimension):
+    """The surface's part of the loading (``onset_core``): a sphere or paraboloid's heights,
+    Q along x, the predicted sets of ``_predict``, the measures of ``measure_contact_2d``."""
 
-        def count(s):
-            counters["fft_pairs"] += s.fft_pairs
-            counters["krylov_iterations"] += s.krylov_iterations
-            counters["iterations"] += s.iterations
+    def __init__(self, ind):
+        self.ind = ind
 
-        P1 = P / loading_steps if loading == "frictional" else P
-        ind1 = Paraboloid(ind.apex, P1, ind.cx, ind.cy)  # (a sphere is one)
-        s0 = solve_contact(grid, 0.0, [ind1], film=film, accept=accept)
-        counters["fft_pairs"] += s0.fft_pairs
-        if loading == "frictional":
-            state = SlipState2D.unloaded(n)
-            guess = SlipState2D.unloaded(n)
-            guess.contact = s0.active.ravel().copy()
-            guess.stick = guess.contact.copy()
-            guess.p = s0.pressure.ravel().copy()
-            guess.d = float(s0.indentations[0])
-            before = None
-            for k in range(1, loading_steps + 1):
-                if k > 1:
-                    guess = _predict(before, state, f, amu) if k > 2 else None
-                new = solve_slip_step_2d(op, f, state, P * k / loading_steps, (0.0, 0.0), amu,
-                                         guess=guess, accept=accept, rtol=rtol)
-                before, state = state, new
-                count(state)
-        else:
-            p = s0.pressure.ravel().copy()
-            w, u = op.apply(p, np.zeros((2, n)))
-            state = SlipState2D(p=p, q=np.zeros((2, n)), w=w, u=u, d=float(s0.indentations[0]),
-                                delta=np.zeros(2), contact=s0.active.ravel().copy(),
-                                stick=s0.active.ravel().copy(), sigma=np.zeros(n, dtype=np.int8),
-                                P=P, slip=np.zeros((2, n)))
-            state.t = np.zeros((2, n))
-        self.loaded = state
-        self.states = []
-        sgn = 1.0 if mu > 0 else -1.0
-        for k, r in enumerate(path, start=1):
-            guess = None
-            if k > 2 and (path[k - 1] - path[k - 2]) * (path[k - 2] - path[k - 3]) > 0:
-                guess = _predict(self.states[-2], state, f, amu)
-            state = solve_slip_step_2d(op, f, state, P, (sgn * amu * P * r, 0.0), amu,
-                                       accept=accept, rtol=rtol, guess=guess)
-            count(state)
-            self.states.append(state)
-            if progress:
-                progress(k, len(path), grid.shape[0])
-        self.counters = counters
-        self.measures = [self.measure(s, f) for s in [self.loaded] + self.states]
+    def heights(self, grid):
+        return np.asarray(self.ind.height(grid), dtype=float).ravel()
 
-    def measure(self, s, f):
+    def first_contact(self, grid, film, P1, accept):
+        ind = self.ind
+        s0 = solve_contact(grid, 0.0, [Paraboloid(ind.apex, P1, ind.cx, ind.cy)], film=film,
+                           accept=accept)  # (a sphere is a paraboloid here)
+        return (s0.active.ravel(), s0.pressure.ravel(), float(s0.indentations[0]),
+                s0.fft_pairs)
+
+    unloaded = staticmethod(SlipState2D.unloaded)
+
+    def tangential(self, Q):
+        return (Q, 0.0)
+
+    def predict(self, s0, s1, f, mu):
+        return _predict(s0, s1, f, mu)
+
+    def rtol(self, accept):
+        # the inner (GMRES) solves to 1e-4 of the accepted residual (as solve's 3D contact):
+        # the loads then hold to ~1e-8 (equilibrium; at 1e-2 of it, 1e-7)
+        return max(1e-10, 1e-4 * accept)
+
+    def measure(self, g, s, f, mu):
         """The contact's area (the polygon through the sub-grid edges, ``measure_contact_2d``,
         as ``solve`` measures it), pressure centroid and peak; the stick zone's area (its
         nodes' cells) and x extent (node positions); d, delta."""
-        g = self.grid
         x = np.broadcast_to(g.coordinates()[0], g.shape).ravel()
         m = measure_contact_2d(g, s.p.reshape(g.shape), (f - s.d + s.w).reshape(g.shape),
                                s.contact.reshape(g.shape))
@@ -173,17 +141,10 @@ class _Run3D:
 
 
 def _differences(fine, coarse):
-    main, stick = [], []
-    dscale = max(max(abs(m["delta"]) for m in fine.measures), 1e-300)
-    for mf, mc in zip(fine.measures, coarse.measures):
-        r = max(mf["radius"], 1e-300)
-        main.append(max(abs(mf["radius"] - mc["radius"]) / r, abs(mf["xc"] - mc["xc"]) / r,
-                        abs(mf["d"] - mc["d"]) / max(abs(mf["d"]), 1e-300),
-                        abs(mf["pmax"] - mc["pmax"]) / max(mf["pmax"], 1e-300),
-                        abs(mf["delta"] - mc["delta"]) / dscale))
-        stick.append(abs(mf["stick_radius"] - mc["stick_radius"]) / r
-                     if mf["stick_nodes"] > 1 and mc["stick_nodes"] > 1 else 0.0)
-    return main, stick
+    """Per step: ``onset_core.differences`` of the contact radius and centroid, and of the
+    stick zone's radius sqrt(area/pi) (over the contact radius)."""
+    return differences(fine, coarse, "radius", "xc", lambda mf, mc, r: abs(
+        mf["stick_radius"] - mc["stick_radius"]) / r)
 
 
 def solve_onset3d(scene: Scene3D, path, tol: float = DEFAULT_TOL_3D, *,
@@ -222,25 +183,17 @@ def solve_onset3d(scene: Scene3D, path, tol: float = DEFAULT_TOL_3D, *,
         -film.decay_rate * max(min(L[0] - (hi - lo), L[1] - 2 * ey), 0.0))
 
     def run(npts):
-        return _Run3D(Grid.centered((npts, npts), L, center), film, ind, P, mu, path, loading,
-                      loading_steps, accept, progress)
+        return LoadingRun(_Surface(ind), Grid.centered((npts, npts), L, center), film, P, mu,
+                          path, loading, loading_steps, accept, progress)
 
-    coarse, fine = run(n // 2), run(n)
-    doubled = False
-    while True:
-        diff, sdiff = _differences(fine, coarse)
-        est = [_LEVEL_MARGIN * e + image for e in diff]
-        if grid_points or max(est) <= tol or doubled or 2 * n > MAX_POINTS_3D:
-            break
-        coarse, fine, n = fine, run(2 * n), 2 * n
-        doubled = True
-    met = max(est) <= tol
+    fine, est, stick_est, met, n, _, counters = refine(
+        run, n, tol, image, _differences, fixed=bool(grid_points), max_doublings=1,
+        max_points=MAX_POINTS_3D)
     if not met and not grid_points:
         raise ConvergenceError(f"onset (3D): error estimate {max(est):.1e} > tol {tol:g} at "
                                f"{n}^2 points; raise tol or fix grid_points", residuals=est)
-    counters = {k: fine.counters[k] + coarse.counters[k] for k in fine.counters}
     return OnsetResult3D(scene, list(path), loading, loading_steps, tol, fine, est,
-                         [_LEVEL_MARGIN * e for e in sdiff], steady, met,
+                         stick_est, steady, met,
                          time.perf_counter() - t0, counters, film)
 
 
@@ -286,22 +239,12 @@ class OnsetResult3D:
 
     def _si_step(self, k: int) -> dict:
         sc, m = self.scene, self.measures[k]
-        h, dU, sU = sc.length_unit, sc.displacement_unit, sc.stress_unit
-        r = float(self.Q_over_muP[k])
-        return {
-            "Q_over_muP": r,
-            "tangential_force_N": r * sc.mu * sc.force,
-            "stick_area_m2": m["stick_area"] * h * h,
-            "stick_radius_m": m["stick_radius"] * h,
+        h = sc.length_unit
+        return step_record(self, k, {
+            "tangential_force_N": float(self.Q_over_muP[k]) * sc.mu * sc.force,
+            "stick_area_m2": m["stick_area"] * h * h, "stick_radius_m": m["stick_radius"] * h,
             "stick_x_min_m": m["stick_lo"] * h, "stick_x_max_m": m["stick_hi"] * h,
-            "contact_radius_m": m["radius"] * h,
-            "contact_center_m": m["xc"] * h,
-            "indentation_m": m["d"] * dU,
-            "max_pressure_Pa": m["pmax"] * sU,
-            "tangential_displacement_m": m["delta"] * dU,
-            "error_estimate": self.error_estimates[k],
-            "stick_error_estimate": self.stick_error_estimates[k],
-        }
+            "contact_radius_m": m["radius"] * h, "contact_center_m": m["xc"] * h})
 
     def summary(self) -> dict:
         sc = self.scene
@@ -321,28 +264,57 @@ class OnsetResult3D:
 
     to_dict = summary
 
+    def maps(self, k: int | None = None) -> dict:
+        """The fields in SI, [x, y] arrays: ``solve``'s map keys (``result.MAP_KEYS``: x_m,
+        y_m, pressure_Pa, base_sigma_zz_Pa, base_sigma_xz_Pa, base_sigma_yz_Pa, surface_ux_m,
+        surface_uy_m, surface_uz_m) and the onset's shear_x_Pa, shear_y_Pa (sigma_xz(h),
+        sigma_yz(h)), slip_x_m, slip_y_m (the accumulated slip), stick, contact (bool).  Of step
+        k (0 = after the normal load): (nx, ny) arrays; k None: every step on a leading step
+        axis, (steps + 1, nx, ny), with ``step`` and ``Q_over_muP`` (steps + 1,) (the layout of
+        ``--maps``)."""
+        if k is None:
+            per = [self.maps(i) for i in range(len(self.states))]
+            out = {key: np.stack([m[key] for m in per]) for key in per[0]
+                   if key not in ("x_m", "y_m")}
+            return {"x_m": per[0]["x_m"], "y_m": per[0]["y_m"],
+                    "step": np.arange(len(self.states)), "Q_over_muP": self.Q_over_muP, **out}
+        sc, g, s = self.scene, self.grid, self.states[k]
+        L, S, U = sc.length_unit, sc.stress_unit, sc.displacement_unit
+        szz, sxz, syz = self.base_stresses(k)
+
+        def field(v):
+            return np.asarray(v).reshape(g.shape)
+        return {"x_m": g.axes[0] * L, "y_m": g.axes[1] * L, "pressure_Pa": field(s.p) * S,
+                "base_sigma_zz_Pa": szz * S, "base_sigma_xz_Pa": sxz * S,
+                "base_sigma_yz_Pa": syz * S, "surface_ux_m": field(s.u[0]) * U,
+                "surface_uy_m": field(s.u[1]) * U, "surface_uz_m": -field(s.w) * U,
+                "shear_x_Pa": field(s.q[0]) * S, "shear_y_Pa": field(s.q[1]) * S,
+                "slip_x_m": field(s.slip[0]) * U, "slip_y_m": field(s.slip[1]) * U,
+                "stick": field(s.stick), "contact": field(s.contact)}
+
     def profiles(self, sensor: dict | None = None) -> dict:
-        """The tidy table of the y = 0 line (SI): step, Q_over_muP, x_m, pressure_Pa, shear_Pa
-        (q_x), slip_m (x), base_sigma_zz_Pa, base_sigma_xz_Pa."""
-        sc = self.scene
+        """The tidy table of the y = 0 line (the grid line nearest it; SI): step, Q_over_muP,
+        x_m, pressure_Pa, shear_Pa (q_x), slip_m (x), base_sigma_zz_Pa, base_sigma_xz_Pa
+        (+ with ``sensor``, a dict of name -> (steps + 1, nx, ny) maps: those names on the
+        line)."""
         g = self.grid
         j0 = int(np.argmin(np.abs(g.axes[1])))
-        x = g.axes[0] * sc.length_unit
         cols = {k: [] for k in ("step", "Q_over_muP", "x_m", "pressure_Pa", "shear_Pa", "slip_m",
                                 "base_sigma_zz_Pa", "base_sigma_xz_Pa")}
-        for k, s in enumerate(self.states):
-            szz, sxz, _ = self.base_stresses(k)
+        names = {"shear_Pa": "shear_x_Pa", "slip_m": "slip_x_m"}
+        for k in range(len(self.states)):
+            m = self.maps(k)
             nx = g.shape[0]
             cols["step"].append(np.full(nx, k))
             cols["Q_over_muP"].append(np.full(nx, self.Q_over_muP[k]))
-            cols["x_m"].append(x)
-            cols["pressure_Pa"].append(self.field(k, "pressure")[:, j0] * sc.stress_unit)
-            cols["shear_Pa"].append(self.field(k, "shear_x")[:, j0] * sc.stress_unit)
-            cols["slip_m"].append(np.asarray(s.slip[0]).reshape(g.shape)[:, j0]
-                                  * sc.displacement_unit)
-            cols["base_sigma_zz_Pa"].append(szz[:, j0] * sc.stress_unit)
-            cols["base_sigma_xz_Pa"].append(sxz[:, j0] * sc.stress_unit)
-        return {k: np.concatenate(v) for k, v in cols.items()}
+            cols["x_m"].append(m["x_m"])
+            for c in ("pressure_Pa", "shear_Pa", "slip_m", "base_sigma_zz_Pa",
+                      "base_sigma_xz_Pa"):
+                cols[c].append(m[names.get(c, c)][:, j0])
+        out = {k: np.concatenate(v) for k, v in cols.items()}
+        for name, v in (sensor or {}).items():
+            out[name] = np.asarray(v)[:, :, j0].ravel()
+        return out
 
     def __repr__(self) -> str:
         return (f"OnsetResult3D({self.scene.indenter}, force={self.scene.force:g} N, "

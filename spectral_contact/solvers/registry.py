@@ -11,7 +11,7 @@ from ..physics.scene import Scene, Scene3D
 from ..reference.hertz import hertz_half_width
 from ..result import ContactResult
 from . import abel as _abel  # noqa: F401  (registers "abel")
-from . import fft as _fft  # noqa: F401  (registers "fft")
+from . import fft_method as _fft  # noqa: F401  (registers "fft")
 from .auto import PROVENANCE, choose_model
 from .base import METHODS
 from .hertz import solve_hertz, solve_hertz3d

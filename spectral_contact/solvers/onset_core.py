@@ -1,0 +1,148 @@
+"""The loading and the grid refinement that the onset of sliding runs for lines
+(``solvers.onset``) and surfaces (``solvers.onset3d``) alike: one partial-slip driver
+(``numerics.partial_slip``), the dimension in a small ``Dimension`` object (the heights, the
+first contact, the tangential load's vector, the next step's predicted sets, the measures).
+
+The loading: the normal load first (``loading="frictional"``: in ``loading_steps`` equal steps
+with the incremental Coulomb law acting, from the frictionless contact at the first load, all
+stuck; ``"frictionless"``: that contact at the full load, q = 0), then the tangential loads
+Q/(mu P) of ``path``, each step from the previous state (the slip history kept), its first sets
+predicted from the last two steps where the path goes on in one direction.
+
+The refinement: the whole loading on N/2 and N points (per axis), the per-step estimate 1.5 x
+their measures' difference plus the periodic images' bound, doubled while it exceeds tol (at
+most ``max_doublings`` times) unless the grid is fixed.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..numerics.partial_slip import PartialSlipOperator, solve_slip_step
+
+__all__ = ["Dimension", "LoadingRun", "refine", "differences", "step_record"]
+
+LEVEL_MARGIN = 1.5  # as solvers.fft's estimate: 1.5 x the difference of the last two levels
+
+
+class Dimension:
+    """What the loading needs of a line or a surface (subclassed by each solver):
+    ``heights(grid)``, ``first_contact(grid, film, P1, accept)`` -> (active, pressure, d,
+    fft_pairs), ``unloaded(n)`` and ``state(...)`` (the state type), ``tangential(Q)`` (the
+    load's vector), ``predict(s0, s1, f, mu)`` (first sets of the next step, or None),
+    ``measure(grid, state, f, mu)`` (a dict), ``rtol(accept)`` (the inner tolerance)."""
+
+    predict_loading = True  # predict the normal loading's steps too
+    predict_reversals = False  # predict across a reversal of the path's direction
+
+    def rtol(self, accept: float) -> float:
+        return 1e-10
+
+
+class LoadingRun:
+    """The whole loading on one grid: ``loaded`` (after the normal load), ``states`` (one per
+    tangential step), ``measures`` (of both), ``counters`` (FFT pairs, iterations)."""
+
+    def __init__(self, dim: Dimension, grid, film, P, mu, path, loading, loading_steps, accept,
+                 progress=None):
+        self.grid = grid
+        op = PartialSlipOperator(grid, film)
+        f = dim.heights(grid)
+        amu = abs(mu)
+        rtol = dim.rtol(accept)
+        self.counters = {"fft_pairs": 0, "krylov_iterations": 0, "iterations": 0}
+        P1 = P / loading_steps if loading == "frictional" else P
+        active, pressure, d0, pairs = dim.first_contact(grid, film, P1, accept)
+        self.counters["fft_pairs"] += pairs
+        n = grid.size
+        if loading == "frictional":
+            state = dim.unloaded(n)
+            guess = dim.unloaded(n)
+            guess.contact, guess.stick = active.copy(), active.copy()
+            guess.p, guess.d = pressure.copy(), d0
+            before = None
+            for k in range(1, loading_steps + 1):
+                if k > 1:
+                    guess = dim.predict(before, state, f, amu) \
+                        if k > 2 and dim.predict_loading else None
+                new = solve_slip_step(op, f, state, P * k / loading_steps, dim.tangential(0.0),
+                                      amu, guess=guess, accept=accept, rtol=rtol)
+                before, state = state, self._count(new)
+        else:
+            q0 = np.zeros_like(dim.unloaded(n).q)
+            w, u = op.apply(pressure, q0)
+            self.counters["fft_pairs"] += op.m
+            state = dim.unloaded(n)
+            state.p, state.w, state.u, state.d = pressure.copy(), w, u, d0
+            state.contact, state.stick, state.P = active.copy(), active.copy(), P
+        self.loaded = state
+        self.states = []
+        sgn = 1.0 if mu > 0 else -1.0
+        for k, r in enumerate(path, start=1):
+            guess = None
+            if k > 2 and (dim.predict_reversals
+                          or (path[k - 1] - path[k - 2]) * (path[k - 2] - path[k - 3]) > 0):
+                guess = dim.predict(self.states[-2], state, f, amu)
+            state = self._count(solve_slip_step(op, f, state, P, dim.tangential(sgn * amu * P * r),
+                                                amu, guess=guess, accept=accept, rtol=rtol))
+            self.states.append(state)
+            if progress:
+                progress(k, len(path), grid.shape[0])
+        self.measures = [dim.measure(grid, s, f, amu) for s in [self.loaded] + self.states]
+
+    def _count(self, s):
+        self.counters["fft_pairs"] += s.fft_pairs
+        self.counters["krylov_iterations"] += s.krylov_iterations
+        self.counters["iterations"] += s.iterations
+        return s
+
+
+def differences(fine, coarse, size: str, centre: str, stick):
+    """Per step: the largest relative difference of the two runs' contact size (measure
+    ``size``: a line's half-width, a surface's radius), centre (``centre``, over the size),
+    indentation, peak pressure and tangential displacement (over its largest value); and the
+    stick zone's ``stick(mf, mc, size)`` (0 once the stick zone is a single node)."""
+    main, sticks = [], []
+    dscale = max(max(abs(m["delta"]) for m in fine.measures), 1e-300)
+    for mf, mc in zip(fine.measures, coarse.measures):
+        a = max(mf[size], 1e-300)
+        main.append(max(abs(mf[size] - mc[size]) / a, abs(mf[centre] - mc[centre]) / a,
+                        abs(mf["d"] - mc["d"]) / max(abs(mf["d"]), 1e-300),
+                        abs(mf["pmax"] - mc["pmax"]) / max(mf["pmax"], 1e-300),
+                        abs(mf["delta"] - mc["delta"]) / dscale))
+        sticks.append(stick(mf, mc, a) if mf["stick_nodes"] > 1 and mc["stick_nodes"] > 1
+                      else 0.0)
+    return main, sticks
+
+
+def refine(run, n: int, tol: float, image: float, differences, *, fixed: bool,
+           max_doublings: int, max_points: int):
+    """The loading on n/2 and n points (``run(npts)``), doubled while the largest per-step
+    estimate (LEVEL_MARGIN x ``differences(fine, coarse)``'s main part + ``image``) exceeds
+    tol (not when ``fixed``).  Returns (fine, estimates, stick estimates, met, n, doublings,
+    counters of both levels)."""
+    coarse, fine = run(n // 2), run(n)
+    doublings = 0
+    while True:
+        diff, sdiff = differences(fine, coarse)
+        est = [LEVEL_MARGIN * e + image for e in diff]
+        if fixed or max(est) <= tol or doublings >= max_doublings or 2 * n > max_points:
+            break
+        coarse, fine, n = fine, run(2 * n), 2 * n
+        doublings += 1
+    counters = {k: fine.counters[k] + coarse.counters[k] for k in fine.counters}
+    return (fine, est, [LEVEL_MARGIN * e for e in sdiff], max(est) <= tol, n, doublings,
+            counters)
+
+
+def step_record(result, k: int, keys: dict) -> dict:
+    """The JSON object of step k (SI) of a line's or a surface's onset ``result``: Q/(mu P),
+    the dimension's ``keys`` (already in SI, inserted after it), then the indentation, peak
+    pressure, tangential displacement and the two estimates."""
+    sc, m = result.scene, result.measures[k]
+    dU = sc.displacement_unit
+    return {"Q_over_muP": float(result.Q_over_muP[k]), **keys,
+            "indentation_m": m["d"] * dU,
+            "max_pressure_Pa": m["pmax"] * sc.stress_unit,
+            "tangential_displacement_m": m["delta"] * dU,
+            "error_estimate": result.error_estimates[k],
+            "stick_error_estimate": result.stick_error_estimates[k]}
