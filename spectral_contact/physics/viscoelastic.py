@@ -57,9 +57,7 @@ from ..errors import InputError
 from .film import Film
 from .options import check_prony
 
-__all__ = ["ViscoelasticFilm", "film_of", "parse_prony", "check_prony", "SURFACE_TAIL_FACTOR"]
-
-SURFACE_TAIL_FACTOR = 20.0  # the sphere's tail images over the line's amplitude (measured 5-19)
+__all__ = ["ViscoelasticFilm", "film_of", "parse_prony", "check_prony"]
 
 
 def parse_prony(text: str, option: str = "--prony") -> tuple:
@@ -251,22 +249,20 @@ class ViscoelasticFilm(Film):
         c = 1.0 - self.relaxed_young / self.glassy_young
         return c * min(1.0, (2.0 * self.thickness / self.tail_length) ** 2)
 
-    def domain_margin(self, tol: float, surface: bool = False) -> float:
-        """The elastic margin plus the tail's: tail_length ln(F A/tol), A = ``tail_amplitude``
-        (the two decays add, the tail being the elastic sinking smeared behind the load over
-        tail_length), F = 100 for a line (its images are then measured, ``solvers.fft``) and
-        F = 100 x SURFACE_TAIL_FACTOR for a surface (the sphere's images, measured on twice the
-        period, studies/viscoelastic.py's sphere part: 5-19 times A e^(-margin/tail_length)
-        at V tau_r = 0.3-100 h, 1.9e-3 at 1 h with F = 100, above its tol 1e-2 estimate).
-        (A shorter line margin, ln(A/tol), with the images
-        measured on twice the period was tried: the paper's scene (mu 2) at 10 m/s then kept
-        changing by 6.4e-4 > tol/4 at tol 1e-3 over three doublings, and 1-3 m/s took 4-7 times
-        the elastic solve instead of 0.7-1.6: the amplitude is not overstated there.)"""
+    def domain_margin(self, tol: float) -> float:
+        """The elastic margin plus the tail's: tail_length ln(100 A/tol), A =
+        ``tail_amplitude`` (the two decays add, the tail being the elastic sinking smeared
+        behind the load over tail_length).  Lines measure the images (``solvers.fft``).
+        (Tried and reverted: a shorter line margin, ln(A/tol), with the images measured on twice
+        the period: the paper's scene (mu 2) at 10 m/s then kept changing by 6.4e-4 > tol/4 at
+        tol 1e-3 over three doublings, and 1-3 m/s took 4-7 times the elastic solve instead of
+        0.7-1.6; for surfaces a 20 times larger amplitude: the sphere's changes on twice the
+        period did not fall with it (0.3 m/s: 1.7e-3 -> 9.7e-4, 1 m/s: 5.2e-4 -> 7.8e-4), so
+        they are not the tail's images alone; studies/README, viscoelastic.)"""
         m = super().domain_margin(tol)
         if not self.moving:
             return m
-        F = 100.0 * (SURFACE_TAIL_FACTOR if surface else 1.0)
-        return m + self.tail_length * max(math.log(F * self.tail_amplitude() / tol), 0.0)
+        return m + self.tail_length * max(math.log(100.0 * self.tail_amplitude() / tol), 0.0)
 
     def edge_scales(self) -> list[tuple[float, float]]:
         """(|V| tau_i, E_i/E_inf) per term: the widths of the edge structure each term makes

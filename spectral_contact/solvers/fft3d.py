@@ -168,8 +168,6 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     prob = Problem(scene, model, tol, adaptive=True,
                    progress=logging.getLogger(__name__).info if progress is None else progress)
     grid_points, domain_length = _check_fixed(grid_points, domain_length)
-    if prob.visco:  # the surface's tail margin (its images are not measured: issue 23)
-        prob.margin = prob.film.domain_margin(tol, surface=True)
     # the inner (GMRES) solves to 1e-4 of the accepted residual (issue 25: 1e-10 before; one
     # to two GMRES iterations per active-set step for digits no measure keeps; 1e-3 left the
     # surface 1.6e-7 d off the indenter at tol 3e-3, 1e-4 2e-9)
