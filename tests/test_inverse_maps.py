@@ -172,6 +172,7 @@ def test_y_invariant_equals_line():
     szz, sxz = base_from_tractions(x, p1, q1, H)
     rng = np.random.default_rng(4)
     s = 0.01 * np.abs(szz).max()
+    # the line inverse as it is (its default, contact-aware prior)
     line = invert_line(x, -szz + s * rng.standard_normal(nx), sxz + s * rng.standard_normal(nx),
                        thickness=H)
     sm_ = s * math.sqrt(ny)
