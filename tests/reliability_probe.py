@@ -26,6 +26,7 @@ SRC = None  # --src: PYTHONPATH of the package under test
 MEAS = "meas.csv"  # a small measured profile written by _fixtures
 RAD = "rad.csv"
 REC = "rec.csv"  # a line record of base stresses (invert)
+EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "synthetic_sliding_profile.csv"
 
 CASES = [
     # (argv, accepted exit codes, note)
@@ -203,6 +204,16 @@ CASES = [
     # --- issue 24, second pass: the newer commands (invert, onset, the viscoelastic film) ---
     # invert: the three line views, bad files, values and spans outside its range
     (["invert", REC, "--json", "--out", "t.csv", "--plot", "t.png"], {0}, "invert base view"),
+    (["py", "import spectral_contact as sc\nfrom pathlib import Path\n"
+      f"s = sc.invert({str(EXAMPLE)!r}).summary()\n"
+      "print('recovered' if abs(s['load_N_per_m'] - 200) < 3 * s['load_sigma_N_per_m'] + 2 "
+      "else s['load_N_per_m'])"], {0}, "invert the example U profile: P_L = 200 N/m",
+     "recovered"),
+    (["py", "import spectral_contact as sc\n"
+      "s = sc.invert(sc.solve(tol=1e-3)).summary()\n"
+      "print('recovered' if abs(s['load_N_per_m'] - 200) < 3 * s['load_sigma_N_per_m'] + 2 "
+      "else s['load_N_per_m'])"], {0}, "invert the paper's scene (noise-free base stresses)",
+     "recovered"),
     (["invert", MEAS, "--json"], {0}, "invert S view"),
     (["invert", "u.csv"], {0}, "invert U view", "sensor view"),
     (["invert", "rec_nan.csv"], {2}, "invert NaN cell"),

@@ -172,10 +172,9 @@ def test_y_invariant_equals_line():
     szz, sxz = base_from_tractions(x, p1, q1, H)
     rng = np.random.default_rng(4)
     s = 0.01 * np.abs(szz).max()
-    # the line inverse with its stationary-GP ("envelope") prior, the maps' kind; its default
-    # contact prior (sqrt edges) is 2.4 % from the truth here where both are 17-18 %
+    # the line inverse as it is (its default, contact-aware prior)
     line = invert_line(x, -szz + s * rng.standard_normal(nx), sxz + s * rng.standard_normal(nx),
-                       thickness=H, prior="envelope")
+                       thickness=H)
     sm_ = s * math.sqrt(ny)
     zz = np.repeat(-szz[:, None], ny, 1) + sm_ * rng.standard_normal((nx, ny))
     xz = np.repeat(sxz[:, None], ny, 1) + sm_ * rng.standard_normal((nx, ny))

@@ -252,3 +252,42 @@ def test_q_over_p_one_definition_for_every_film():
     assert s["deformation_friction"] == pytest.approx(
         s["pressure_centroid_x_m"] / s["radius_m"], rel=0.05)
     assert s["deformation_friction"] > 0
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_slow_sliding_first_order_theory(sign):
+    """Slow sliding (solvers.visco_slow): the relaxed elastic solve + the first-order
+    correction (trailing edge in by |delta|, pressure translated by delta) against the full
+    viscoelastic solve on a grid resolving V tau (8 cells), a_H/h = 1, V = 1 mm/s (V tau/h
+    = 5e-3, remainder 1e-4): a, x_c, d, p_max, x_p within the two error estimates."""
+    from studies.viscoelastic import FILM, load_for
+
+    kw = dict(load=load_for(1.0), mu=0.0, prony=SLS, tol=TOL, **FILM)
+    slow = solve(speed=sign * 1e-3, **kw)
+    assert slow.info["slow_sliding"]["shift_h"] == pytest.approx(sign * 5e-3)
+    full = solve(speed=sign * 1e-3, grid_points=2**15,
+                 domain_length=slow.domain_length * FILM["thickness"], **kw)
+    assert "slow_sliding" not in full.info
+    a = full.half_width
+    bound = slow.error_estimate + full.error_estimate
+    assert abs(slow.half_width - a) / a < bound
+    assert abs(slow.center - full.center) / a < bound
+    assert abs(slow.indentation - full.indentation) / full.indentation < bound
+    assert abs(slow.max_pressure - full.max_pressure) / full.max_pressure < bound
+    assert abs(slow.info["pressure_centroid"] - full.info["pressure_centroid"]) / a < bound
+    assert sign * slow.center > 0.4 * 5e-3  # a real shift (delta/2), signed like V
+    # equilibrium of the translated base stresses
+    dx = slow.x[1] - slow.x[0]
+    assert slow.base_sigma_zz.sum() * dx == pytest.approx(-slow.pressure.sum() * dx, rel=1e-9)
+    # beyond the theory's range (remainder > tol/4) the full solve runs
+    assert "slow_sliding" not in solve(speed=0.05, **kw).info
+
+
+def test_sphere_period_too_short_for_the_tail_is_refused():
+    """3D: a user period that holds the contact and the elastic decay but not the relaxation
+    tail behind the contact (V tau_r = 10 h here) is refused in one message naming the tail."""
+    kw = dict(indenter="sphere", force=1.0, mu=0.0, speed=1.0, prony=SLS, tol=1e-2)
+    with pytest.raises(InputError, match="relaxation tail"):
+        solve(**kw, domain_length=(0.08, 0.04))  # 40 h x 20 h (elastic need ~10 h)
+    # the same period is fine for the elastic film
+    solve(indenter="sphere", force=1.0, mu=0.0, tol=1e-2, domain_length=(0.08, 0.04))

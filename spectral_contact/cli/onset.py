@@ -213,8 +213,11 @@ def _cmd_onset(args) -> int:
               domain_length=args.domain_length, amplitude=args.amplitude, cycle=args.cycle,
               progress=progress)
     if not r.tolerance_met:
-        print(f"warning: error estimate {max(r.error_estimates):.1e} > --tol at the fixed "
-              f"--grid-points {args.grid_points} (JSON: \"tolerance_met\": false)", file=sys.stderr)
+        step = max(r.load_step_estimates)
+        why = (f"the load steps' share {step:.1e}: raise --steps (and --loading-steps)"
+               if step > r.tol else f"at the fixed --grid-points {args.grid_points}")
+        print(f"warning: error estimate {max(r.error_estimates):.1e} > --tol {r.tol:g}, {why} "
+              f"(JSON: \"tolerance_met\": false)", file=sys.stderr)
     maps = r.maps() if indenter != "line" and (args.sensor or args.maps) else None
     view = None
     if args.sensor:

@@ -252,7 +252,13 @@ class ViscoelasticFilm(Film):
     def domain_margin(self, tol: float) -> float:
         """The elastic margin plus the tail's: tail_length ln(100 A/tol), A =
         ``tail_amplitude`` (the two decays add, the tail being the elastic sinking smeared
-        behind the load over tail_length)."""
+        behind the load over tail_length).  Lines measure the images (``solvers.fft``).
+        (Tried and reverted: a shorter line margin, ln(A/tol), with the images measured on twice
+        the period: the paper's scene (mu 2) at 10 m/s then kept changing by 6.4e-4 > tol/4 at
+        tol 1e-3 over three doublings, and 1-3 m/s took 4-7 times the elastic solve instead of
+        0.7-1.6; for surfaces a 20 times larger amplitude: the sphere's changes on twice the
+        period did not fall with it (0.3 m/s: 1.7e-3 -> 9.7e-4, 1 m/s: 5.2e-4 -> 7.8e-4), so
+        they are not the tail's images alone; studies/README, viscoelastic.)"""
         m = super().domain_margin(tol)
         if not self.moving:
             return m
@@ -264,6 +270,36 @@ class ViscoelasticFilm(Film):
         if not self.moving:
             return []
         return [(abs(self.speed) * t, e / self.relaxed_young) for e, t in self.prony]
+
+
+    # --- slow sliding: the first-order theory ---------------------------------------------------
+    @property
+    def slow_shift(self) -> float:
+        """delta = V sum (E_i/E_inf) tau_i (signed like V, lengths of ``thickness``): the first
+        moment of the symbol, R(k) = 1 + i k delta + O(k^2 delta l_r) (module docstring).
+
+        Slow sliding (every V tau_r,i << a, h): the pressure is the relaxed elastic one
+        translated by delta (the sinking delayed: s = s_e + delta s_e'), and the edge layers of
+        width ~V tau_i set the edges: the leading edge stays where the relaxed elastic one is,
+        the trailing edge moves toward the centre by |delta|; so a = a_el - |delta|/2, x_c =
+        x_c,el + delta/2, the pressure's centroid x_p = x_p,el + delta, d and p_max unchanged,
+        to first order.  Found in Hunter's closed form (``reference.hunter``: for r = E_inf/E_0
+        = 0.05 ... 0.8 the remainders of a, x_c and x_p are below (1 + r)/2 (delta/a)(l_r/a))
+        and confirmed on the film (a_H/h 0.3, V tau/h = 1.6e-4 against a 2^20-point resolved
+        solve: a, x_c, d, p_max within 8e-6, below that solve's own estimate)."""
+        if not self.moving:
+            return 0.0
+        return self.speed * sum(e * t for e, t in self.prony) / self.relaxed_young
+
+    def slow_remainder(self, a: float) -> float:
+        """Bound of the second-order remainder of the slow-sliding theory on a contact of
+        half-width ``a`` (relative to a for a, x_c and x_p, to themselves for d and p_max):
+        2 |delta| l_r / min(a, h)^2, l_r = ``tail_length`` (the symbol's second-order term is
+        delta l_r k^2, k ~ 1/min(a, h); twice the half-space's largest coefficient, 0.9)."""
+        if not self.moving:
+            return 0.0
+        s = min(a, self.thickness)
+        return 2.0 * abs(self.slow_shift) * self.tail_length / (s * s)
 
 
 def _atan_ratio(t: float) -> float:

@@ -42,6 +42,7 @@ from ..numerics.interface import solve_exponential_contact
 from ..physics.scene import Scene
 from ..result import ContactResult
 from .fft_driver import Problem, run
+from .visco_slow import slow_sliding
 
 __all__ = ["solve_fft", "MIN_POINTS", "MAX_POINTS"]
 
@@ -283,6 +284,11 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     """
     prob = Problem(scene, model, tol, adaptive=not grid_points,
                    progress=_log.info if progress is None else progress)
+    if prob.visco and grid_points is None and domain_length is None:
+        # slow sliding: the relaxed elastic solve + the first-order correction (visco_slow)
+        slow = slow_sliding(scene, prob.film, model, tol, solve_fft)
+        if slow is not None:
+            return slow
     # the inner (GMRES) solves: 1e-10 costs ~10 % more iterations than 1e-9 for nothing at
     # these tolerances (the results keep their residual below 1e-8); the locator's a and x_c
     # only size the period and the grid: its inner solves are looser

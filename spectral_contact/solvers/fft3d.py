@@ -256,12 +256,16 @@ class _SurfaceSolve:
         width_x, width_y = q["x_max"] - q["x_min"], q["y_max"] - q["y_min"]
         free = math.log(2.0 / tol) / self.prob.film.decay_rate
         need = (width_x + free, width_y + free)
+        visco = self.prob.visco
+        if visco:  # and along x the relaxation tail behind the contact (issue 23)
+            need = (need[0] + self.prob.margin - Film.domain_margin(self.prob.film, tol), need[1])
         if any(L < n for L, n in zip(dl, need)):
             raise InputError(
                 f"domain_length ({dl[0]:.4g}, {dl[1]:.4g}) h is too short "
                 f"for this contact at tol {tol:g}: the periods must hold the contact "
                 f"({width_x:.3g} x {width_y:.3g} h) plus {free:.3g} h for its images to decay "
-                f"below tol/2: at least ({need[0]:.4g}, {need[1]:.4g}) h, or leave it automatic")
+                f"below tol/2{' (along x also the relaxation tail behind it)' if visco else ''}: "
+                f"at least ({need[0]:.4g}, {need[1]:.4g}) h, or leave it automatic")
 
     def period(self, located):
         """2. the periods: the contact plus the decay margin, centred on the contact (a fixed

@@ -51,7 +51,14 @@ from ..physics.indenters import Cylinder
 from ..physics.scene import Scene, Scene3D, check_tol
 from .base import ONSET_MU_MIN, check_grid_points, check_onset_mu  # noqa: F401 (re-exported)
 from .fft import MAX_POINTS, MIN_POINTS, solve_fft
-from .onset_core import Dimension, LoadingRun, differences, refine, step_record
+from .onset_core import (
+    Dimension,
+    LoadingRun,
+    differences,
+    refine,
+    step_record,
+    with_load_steps,
+)
 
 __all__ = ["onset", "solve_onset", "OnsetResult", "STEP_KEYS", "PROFILE_COLUMNS", "MAX_STEPS",
            "LOADINGS", "DEFAULT_TOL"]
@@ -347,18 +354,23 @@ def solve_onset(scene: Scene, steps: int = 20, tol: float = DEFAULT_TOL, *, load
                          f"(with --grid-points fixed too, it is taken and the images' error is "
                          f"in the estimate)")
 
-    def run(npts):
-        return LoadingRun(_Line(), Grid.centered(npts, L, center), film, P, mu, path, loading,
-                          loading_steps, accept, progress)
+    def run(npts, path_=path, steps_=loading_steps):
+        return LoadingRun(_Line(), Grid.centered(npts, L, center), film, P, mu, path_, loading,
+                          steps_, accept, progress if path_ is path else None)
 
-    fine, est, stick_est, met, n, doublings, counters = refine(
+    fine, est, stick_est, met, n, doublings, counters, coarse = refine(
         run, n, tol, image, _differences, fixed=bool(grid_points),
         max_doublings=_MAX_DOUBLINGS, max_points=MAX_POINTS)
     if not met and not grid_points:
         raise ConvergenceError(f"onset: error estimate {max(est):.1e} > tol {tol:g} at N = {n}; "
                                f"raise tol", residuals=est, iterations=doublings)
+    # the load steps' share (not reduced by the grid: flagged, tolerance_met False)
+    est, stick_est, step_est, counters = with_load_steps(
+        fine, coarse, run, path, loading, loading_steps, _differences, est, stick_est, counters)
+    met = max(est) <= tol
     return OnsetResult(scene=scene, path=path, loading=loading, loading_steps=loading_steps,
                        tol=tol, run=fine, estimates=est, stick_estimates=stick_est,
+                       load_step_estimates=step_est,
                        steady=steady, tolerance_met=met,
                        wall_time_s=time.perf_counter() - t0, counters=counters, film=film)
 
@@ -375,7 +387,8 @@ class OnsetResult:
     """
 
     def __init__(self, scene, path, loading, loading_steps, tol, run, estimates,
-                 stick_estimates, steady, tolerance_met, wall_time_s, counters, film):
+                 stick_estimates, steady, tolerance_met, wall_time_s, counters, film,
+                 load_step_estimates=None):
         self.scene = scene
         self.n_steps = len(path)
         self.cycle = len(path) > 1 and min(path) < 0.0
@@ -389,6 +402,8 @@ class OnsetResult:
         self.measures = run.measures
         self.error_estimates = [float(e) for e in estimates]
         self.stick_error_estimates = [float(e) for e in stick_estimates]
+        self.load_step_estimates = [float(e) for e in (load_step_estimates
+                                                       or [0.0] * len(estimates))]
         self.steady = steady
         self.tolerance_met = bool(tolerance_met)
         self.wall_time_s = wall_time_s
@@ -429,6 +444,7 @@ class OnsetResult:
             "n_steps": self.n_steps, "tol": self.tol, "grid_points": self.grid.n,
             "domain_length_m": self.grid.length * sc.length_unit,
             "error_estimate": max(self.error_estimates), "tolerance_met": self.tolerance_met,
+            "load_step_error_estimate": max(self.load_step_estimates),
             "steady_half_width_m": self.steady.half_width_m,
             "steady_contact_center_m": self.steady.contact_center_m,
             "wall_time_s": self.wall_time_s, "counters": dict(self.counters),

@@ -34,7 +34,14 @@ from ..physics.indenters import Paraboloid
 from ..physics.scene import Scene3D, check_tol
 from .base import check_onset_mu
 from .fft3d import MAX_POINTS_3D, MIN_POINTS_3D, solve_fft3d
-from .onset_core import Dimension, LoadingRun, differences, refine, step_record
+from .onset_core import (
+    Dimension,
+    LoadingRun,
+    differences,
+    refine,
+    step_record,
+    with_load_steps,
+)
 
 __all__ = ["solve_onset3d", "OnsetResult3D", "DEFAULT_TOL_3D", "STEP_KEYS_3D"]
 
@@ -182,19 +189,24 @@ def solve_onset3d(scene: Scene3D, path, tol: float = DEFAULT_TOL_3D, *,
     image = _IMAGE_AMPLITUDE * max(1.0, abs(mu) / 10.0) * math.exp(
         -film.decay_rate * max(min(L[0] - (hi - lo), L[1] - 2 * ey), 0.0))
 
-    def run(npts):
+    def run(npts, path_=path, steps_=loading_steps):
         return LoadingRun(_Surface(ind), Grid.centered((npts, npts), L, center), film, P, mu,
-                          path, loading, loading_steps, accept, progress)
+                          path_, loading, steps_, accept, progress if path_ is path else None)
 
-    fine, est, stick_est, met, n, _, counters = refine(
+    fine, est, stick_est, met, n, _, counters, coarse = refine(
         run, n, tol, image, _differences, fixed=bool(grid_points), max_doublings=1,
         max_points=MAX_POINTS_3D)
     if not met and not grid_points:
         raise ConvergenceError(f"onset (3D): error estimate {max(est):.1e} > tol {tol:g} at "
                                f"{n}^2 points; raise tol or fix grid_points", residuals=est)
+    # the load steps' share (not reduced by the grid: flagged, tolerance_met False)
+    est, stick_est, step_est, counters = with_load_steps(
+        fine, coarse, run, list(path), loading, loading_steps, _differences, est, stick_est,
+        counters)
+    met = max(est) <= tol
     return OnsetResult3D(scene, list(path), loading, loading_steps, tol, fine, est,
                          stick_est, steady, met,
-                         time.perf_counter() - t0, counters, film)
+                         time.perf_counter() - t0, counters, film, step_est)
 
 
 class OnsetResult3D:
@@ -203,7 +215,7 @@ class OnsetResult3D:
     ``profiles()`` (the y = 0 line, tidy), ``plot()`` (a Figure)."""
 
     def __init__(self, scene, path, loading, loading_steps, tol, run, estimates, stick_estimates,
-                 steady, tolerance_met, wall_time_s, counters, film):
+                 steady, tolerance_met, wall_time_s, counters, film, load_step_estimates=None):
         self.scene = scene
         self.n_steps = len(path)
         self.cycle = min(path) < 0.0
@@ -213,6 +225,8 @@ class OnsetResult3D:
         self.measures = run.measures
         self.error_estimates = [float(e) for e in estimates]
         self.stick_error_estimates = [float(e) for e in stick_estimates]
+        self.load_step_estimates = [float(e) for e in (load_step_estimates
+                                                       or [0.0] * len(estimates))]
         self.steady = steady
         self.tolerance_met = bool(tolerance_met)
         self.wall_time_s = wall_time_s
@@ -255,6 +269,7 @@ class OnsetResult3D:
             "n_steps": self.n_steps, "tol": self.tol, "grid_points": list(self.grid.shape),
             "domain_length_m": [v * sc.length_unit for v in self.grid.lengths],
             "error_estimate": max(self.error_estimates), "tolerance_met": self.tolerance_met,
+            "load_step_error_estimate": max(self.load_step_estimates),
             "steady_contact_radius_m": self.steady.contact_radius_m,
             "wall_time_s": self.wall_time_s, "counters": dict(self.counters),
             "marginal_steps": sum(s.residuals.get("marginal_nodes", 0) for s in self.states),

@@ -1,0 +1,78 @@
+"""Cost of a viscoelastic line solve against the elastic one at the same tolerance (issue 23:
+"at most 3x"), over V = 1e-6 ... 10 m/s, measured in one process.
+
+    python -m studies.viscoelastic_cost [--quick] [--out DIR]
+
+Scenes: the paper's (P_L = 200 N/m, mu = 2) and frictionless lines of Hertz half-width a_H/h =
+0.1, 1, 3 (``studies.viscoelastic.load_for``), on the standard linear solid E_1 = E_inf, tau =
+10 ms; the elastic reference is the relaxed film (E_inf), tol 1e-3.  Per (scene, V): wall times
+(median of 3 warm runs, 1 run past 5 s), FFT pairs, final grid points, the path taken (slow:
+``solvers.visco_slow``, full: the viscoelastic resolution control), the ratios, and whether the
+time ratio is <= 3.  Timings depend on the machine's load (printed in the meta title).
+"""
+from __future__ import annotations
+
+import os
+import statistics
+import sys
+import time
+
+import numpy as np
+
+from spectral_contact import solve
+
+from ._common import parse, progress, table
+from .viscoelastic import FILM, SLS, load_for
+
+TOL = 1e-3
+
+
+def _timed(fn, repeats: int = 3):
+    t = time.perf_counter()
+    r = fn()
+    first = time.perf_counter() - t
+    if first > 5.0:
+        return r, first
+    ts = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        r = fn()
+        ts.append(time.perf_counter() - t)
+    return r, statistics.median(ts)
+
+
+def main(argv=None) -> int:
+    args, out = parse(argv, __doc__.splitlines()[0], "out/viscoelastic")
+    t0 = time.perf_counter()
+    speeds = (1e-5, 1e-3, 1.0) if args.quick else tuple(float(v) for v in np.logspace(-6, 1, 15))
+    scenes = [("paper", 200.0, 2.0)] + [(f"aH/h={s:g}", load_for(s), 0.0)
+                                        for s in ((0.1,) if args.quick else (0.1, 1.0, 3.0))]
+    rows = []
+    n = len(speeds) * len(scenes)
+    load0 = os.getloadavg()[0]
+    for name, load, mu in scenes:
+        el, t_el = _timed(lambda: solve(load=load, mu=mu, tol=TOL, **FILM))
+        for V in speeds:
+            r, t_v = _timed(lambda: solve(load=load, mu=mu, speed=V, prony=SLS, tol=TOL, **FILM))
+            ratio = t_v / t_el
+            rows.append({
+                "scene": name, "speed_m_per_s": V, "V_tau_over_h": V * SLS[0][1] / FILM["thickness"],
+                "path": "slow" if "slow_sliding" in r.info else "full",
+                "time_elastic_s": t_el, "time_visco_s": t_v, "time_ratio": ratio,
+                "fft_pairs_ratio": r.counters["transforms"] / el.counters["transforms"],
+                "grid_points_ratio": r.grid_points / el.grid_points,
+                "period_ratio": r.domain_length / el.domain_length,
+                "error_estimate": r.error_estimate, "met_3x": bool(ratio <= 3.0)})
+            progress(len(rows), n, f"{name} V={V:.1e}: {ratio:.2f}x", t0)
+    load1 = os.getloadavg()[0]
+    table(rows, out / "viscoelastic_cost.csv",
+          f"viscoelastic (SLS E_1 = E_inf, tau 10 ms) against elastic (E_inf) line solves, tol "
+          f"{TOL:g}, one process; load average {load0:.1f} -> {load1:.1f}")
+    met = sum(r["met_3x"] for r in rows)
+    print(f"time ratio <= 3 in {met} of {len(rows)}; worst {max(r['time_ratio'] for r in rows):.1f}x",
+          file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
