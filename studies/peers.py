@@ -825,6 +825,34 @@ def surface_comparison(exps=SURFACE_EXPS, level: float = LEVEL, repeats: int = 5
     return rows
 
 
+def surface_cpu_check(n: int = 1024, tol: float = 1e-9, operator: str = "film") -> dict:
+    """Case E's scene on n x n, ours (``solve_contact``, cold) and tamaas' PKR with the same
+    symbol at the same rtol, each once warm: CPU and wall seconds (CPU time is less sensitive
+    to a shared machine's load than the wall time of the interleaved runs)."""
+    import tamaas
+
+    from spectral_contact.physics.indenters import Sphere
+    from spectral_contact.physics.scene import Scene3D
+
+    tamaas.initialize(1)
+    scene = Scene3D(force=1.0, mu=0.0)
+    L, P = SURFACE_PERIOD_M / scene.length_unit, scene.P
+    grid = Grid.centered((n, n), (L, L))
+    film = Film() if operator == "film" else HALF_SPACE
+    sym = film.surface_compliance(grid.direction, grid.kmag, 0.0).real
+    ind = [Sphere(0.0, P)]
+    out = {}
+    for name, run in (("tamaas", tamaas_surface_runner(grid, P, sym, tol)),
+                      ("ours", lambda: solve_contact(grid, 0.0, ind, rtol=tol, film=film))):
+        run()
+        c, t = time.process_time(), time.perf_counter()
+        run()
+        out[name] = (time.process_time() - c, time.perf_counter() - t)
+    out["cpu_ratio"] = out["tamaas"][0] / out["ours"][0]
+    out["wall_ratio"] = out["tamaas"][1] / out["ours"][1]
+    return out
+
+
 def surface_targets(rows: list[dict], level: float = LEVEL) -> list[dict]:
     """Issue 25's peer target from ``surface_comparison`` rows: at each N and operator, tamaas'
     fastest configuration's time / ours >= SURFACE_SPEEDUP (ContactMechanics reported too)."""
