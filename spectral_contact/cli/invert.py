@@ -44,6 +44,9 @@ def register(subparsers) -> None:
     p.add_argument("--apparatus-xz", metavar="G.csv", default=None,
                    help="radial G_xz instead of the paper's; S/U files only")
     p.add_argument("--positive", action="store_true", help="constrain p >= 0")
+    p.add_argument("--prior", choices=("auto", "contact", "envelope"), default="auto",
+                   help="lines: the prior; auto (default) fits both and keeps the one of higher "
+                        "evidence (the choice is in the JSON's regularisation.prior_choice)")
     p.add_argument("--support", type=float, nargs=2, metavar=("A_M", "B_M"), default=None,
                    help="known contact interval [m] (p = q = 0 outside)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -83,7 +86,8 @@ def _cmd_invert(args) -> int:
         raise InputError(f"{opt}: {args.record} holds base stresses (no apparatus); drop the "
                          f"option or give the S/U record")
     inv = invert_line(x, zz, xz, thickness=args.thickness, poisson=args.poisson, view=view,
-                      apparatus=apparatus, positive=args.positive, support=args.support)
+                      apparatus=apparatus, positive=args.positive, support=args.support,
+                      prior=args.prior)
     rec = inv.summary()
     rec["input"] = str(args.record)
     write_outputs(outputs, {  # stdout with the files, or nothing

@@ -18,7 +18,8 @@ def cmd_invert_maps(args) -> int:
     from ..physics.scene import check_poisson
 
     check_poisson(args.poisson)
-    for opt, given in (("--positive", args.positive), ("--support", args.support is not None)):
+    for opt, given in (("--positive", args.positive), ("--support", args.support is not None),
+                       ("--prior", args.prior != "auto")):
         if given:
             raise InputError(f"{opt}: not available for maps ({args.record}); line records only")
     outputs = plan_outputs(inputs={"FILE": args.record, "--apparatus-zz": args.apparatus_zz,

@@ -248,7 +248,7 @@ def _check_span(x, h):
 
 def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float = 0.5,
                 view: str = "base", apparatus=None, positive: bool = False, support=None,
-                draws: int = 400, seed: int = 0, prior: str = "contact",
+                draws: int = 400, seed: int = 0, prior: str = "auto",
                 hyper: bool = True) -> LineInversion:
     """Interface tractions from a line record (see the module docstring).
 
@@ -256,8 +256,31 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
     xz_Pa : sigma_xz(x, 0) or S_xz; view : "base" (no apparatus) or "sensor" (apparatus: None
     for the paper's G_zz, G_xz, or a pair of ``ApparatusFunction``); thickness [m], poisson : the
     film; positive : p >= 0; support : (a, b) [m] known contact; draws, seed : posterior draws
-    for the contact interval's uncertainty.
+    for the contact interval's uncertainty.  prior : "auto" (default: both priors fitted to the
+    same data and the one of higher evidence kept, equal prior odds; a contact prior whose
+    search fails is reported as such in ``regularisation["prior_choice"]``), "contact" or
+    "envelope".
     """
+    if prior == "auto":
+        kw = dict(thickness=thickness, poisson=poisson, view=view, apparatus=apparatus,
+                  positive=positive, support=support, draws=draws, seed=seed, hyper=hyper)
+        env = invert_line(x_m, zz_Pa, xz_Pa, prior="envelope", **kw)
+        try:
+            con = invert_line(x_m, zz_Pa, xz_Pa, prior="contact", **kw)
+            failed = None if math.isfinite(con.record["log_evidence"]) else "log-evidence not finite"
+        except (ValueError, IndexError, ArithmeticError, np.linalg.LinAlgError) as exc:
+            # (an InputError is a ValueError too, but the envelope fit above has passed the
+            # same checks: what fails here is the contact prior's window search)
+            con, failed = None, f"{type(exc).__name__}: {exc}"
+        best = env if con is None or env.record["log_evidence"] > con.record["log_evidence"] \
+            else con
+        best.record["regularisation"]["prior_choice"] = {
+            "rule": "the prior of higher log-evidence on the same data (equal prior odds)",
+            "log_evidence_contact": None if con is None else con.record["log_evidence"],
+            "log_evidence_envelope": env.record["log_evidence"],
+            "contact_failed": failed,
+            "chosen": "envelope" if best is env else "contact"}
+        return best
     from ..physics.scene import check_poisson, check_positive
 
     h = check_positive("thickness", thickness, "m")
@@ -265,7 +288,7 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
     x, dz, dxz = _check_record(x_m, zz_Pa, xz_Pa)
     _check_span(x, h)
     if prior not in ("contact", "envelope"):
-        raise InputError(f"prior must be 'contact' or 'envelope'; got {prior!r}")
+        raise InputError(f"prior must be 'auto', 'contact' or 'envelope'; got {prior!r}")
     if view not in ("base", "sensor"):
         raise InputError(f"view must be 'base' or 'sensor'; got {view!r}")
     if view == "sensor":
@@ -416,7 +439,7 @@ def read_record(path, A_zz_mV_per_bar: float | None = None, A_xz_mV_per_bar: flo
 def invert(source=None, *, x_m=None, zz_Pa=None, xz_Pa=None, view: str | None = None,
            thickness: float | None = None, poisson: float | None = None, apparatus=None,
            A_zz_mV_per_bar: float | None = None, A_xz_mV_per_bar: float | None = None,
-           positive: bool = False, support=None) -> LineInversion:
+           positive: bool = False, support=None, prior: str = "auto") -> LineInversion:
     """Interface tractions p(x), q(x) with uncertainties from a line record of base stresses.
 
         >>> from spectral_contact import invert, solve
@@ -432,7 +455,7 @@ def invert(source=None, *, x_m=None, zz_Pa=None, xz_Pa=None, view: str | None = 
     thickness [m] (default 0.002 or the result's), poisson (0.5 or the result's): the film.
     apparatus : sensor views only: None (the paper's G_zz, G_xz) or a pair of
         ``ApparatusFunction`` (``instruments.apparatus.load_apparatus_csv``).
-    positive, support : see ``invert_line``.
+    positive, support, prior : see ``invert_line``.
     """
     if source is not None and hasattr(source, "base_sigma_zz_Pa"):
         r = source
@@ -450,4 +473,4 @@ def invert(source=None, *, x_m=None, zz_Pa=None, xz_Pa=None, view: str | None = 
         x, zz, xz, kind = x_m, zz_Pa, xz_Pa, view or "base"
     return invert_line(x, zz, xz, thickness=0.002 if thickness is None else thickness,
                        poisson=0.5 if poisson is None else poisson, view=kind,
-                       apparatus=apparatus, positive=positive, support=support)
+                       apparatus=apparatus, positive=positive, support=support, prior=prior)
