@@ -375,7 +375,8 @@ class _SurfaceSolve:
         over the contact nodes."""
         scene = self.scene
         f = np.asarray(self.ind.height(sol.grid), dtype=float)
-        dfdx = (np.roll(f, -1, axis=0) - np.roll(f, 1, axis=0)) / (2.0 * sol.grid.spacing[0])
+        with np.errstate(invalid="ignore"):  # inf - inf beyond a finite cylinder's ends, off contact
+            dfdx = (np.roll(f, -1, axis=0) - np.roll(f, 1, axis=0)) / (2.0 * sol.grid.spacing[0])
         on = p > 0
         return (float(np.sum(p[on] * dfdx[on]) / np.sum(p[on])) * scene.thickness
                 / (2.0 * scene.radius) if on.any() else 0.0)
