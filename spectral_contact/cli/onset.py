@@ -212,12 +212,6 @@ def _cmd_onset(args) -> int:
               loading_steps=args.loading_steps, grid_points=args.grid_points,
               domain_length=args.domain_length, amplitude=args.amplitude, cycle=args.cycle,
               progress=progress)
-    if not r.tolerance_met:
-        step = max(r.load_step_estimates)
-        why = (f"the load steps' share {step:.1e}: raise --steps (and --loading-steps)"
-               if step > r.tol else f"at the fixed --grid-points {args.grid_points}")
-        print(f"warning: error estimate {max(r.error_estimates):.1e} > --tol {r.tol:g}, {why} "
-              f"(JSON: \"tolerance_met\": false)", file=sys.stderr)
     maps = r.maps() if indenter != "line" and (args.sensor or args.maps) else None
     view = None
     if args.sensor:
@@ -241,4 +235,10 @@ def _cmd_onset(args) -> int:
         "--maps": staged(write_maps),
     }, lambda: (to_json(record) if args.json else
                 (_text(r) if indenter == "line" else _text3d(r))))
+    if not r.tolerance_met:  # after the outputs: a failed write prints its one error line only
+        step = max(r.load_step_estimates)
+        why = (f"the load steps' share {step:.1e}: raise --steps (and --loading-steps)"
+               if step > r.tol else f"at the fixed --grid-points {args.grid_points}")
+        print(f"warning: error estimate {max(r.error_estimates):.1e} > --tol {r.tol:g}, {why} "
+              f"(JSON: \"tolerance_met\": false)", file=sys.stderr)
     return 0
