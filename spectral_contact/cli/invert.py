@@ -124,13 +124,8 @@ def _invert_text(args, rec, view) -> str:
             f"{cs[1] * mm:.2g}] mm; resolution {rec['resolution_length_m'] * mm:.3g} mm",
             f"  noise sd zz {rec['noise_sd_zz_Pa']:.3g} Pa, xz {rec['noise_sd_xz_Pa']:.3g} Pa "
             f"(by evidence; log-evidence {rec['log_evidence']:.2f})"]
-        for law in ("amontons", "linear", "power"):
-            r = laws.get(law, {})
-            if "aic" not in r:
-                continue
-            pars = ", ".join(f"{k} = {r[k]:.4g} +- {r[k + '_sigma']:.2g}" for k in r
-                             if k + "_sigma" in r)
-            lines.append(f"  law {law:<9s} {pars}; chi2 {r['chi2']:.1f}/{r['dof']} "
-                         f"(p {r['p_value']:.2g}), AIC {r['aic']:.1f}")
+        from ..instruments.inverse_laws import law_lines
+
+        lines += law_lines(laws)
         lines.append(f"  best law (AIC): {laws.get('best')}")
         return "\n".join(lines)

@@ -62,14 +62,9 @@ def _text(args, rec, view) -> str:
         f"yz {rec['noise_sd_yz_Pa']:.3g} Pa (by evidence; log-evidence "
         f"{rec['log_evidence']:.2f})"]
     laws = rec["laws"]
-    for law in ("amontons", "linear", "power"):
-        r = laws.get(law, {})
-        if "aic" not in r:
-            continue
-        pars = ", ".join(f"{k} = {r[k]:.4g} +- {r[k + '_sigma']:.2g}" for k in r
-                         if k + "_sigma" in r)
-        lines.append(f"  law {law:<9s} {pars}; chi2 {r['chi2']:.1f}/{r['dof']} "
-                     f"(p {r['p_value']:.2g}), AIC {r['aic']:.1f}")
+    from ..instruments.inverse_laws import law_lines
+
+    lines += law_lines(laws)
     lines.append(f"  best law (AIC): {laws.get('best')}" if laws.get("best")
                  else f"  laws: {laws.get('note', 'none')}")
     return "\n".join(lines)

@@ -83,3 +83,18 @@ def fit_laws(p, q, Cpp, Cqq, Cpq) -> dict:
     fitted = {k: v for k, v in out.items() if "aic" in v}
     out["best"] = min(fitted, key=lambda k: fitted[k]["aic"]) if fitted else None
     return out
+
+
+def law_lines(laws: dict) -> list[str]:
+    """One text line per fitted law of ``fit_laws``' record (its parameters with sigmas, chi^2,
+    p-value, AIC), for the command line's summaries of line and map inversions."""
+    lines = []
+    for law in ("amontons", "linear", "power"):
+        r = laws.get(law, {})
+        if "aic" not in r:
+            continue
+        pars = ", ".join(f"{k} = {r[k]:.4g} +- {r[k + '_sigma']:.2g}" for k in r
+                         if k + "_sigma" in r)
+        lines.append(f"  law {law:<9s} {pars}; chi2 {r['chi2']:.1f}/{r['dof']} "
+                     f"(p {r['p_value']:.2g}), AIC {r['aic']:.1f}")
+    return lines
