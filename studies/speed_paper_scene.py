@@ -8,8 +8,9 @@ wall time (time.perf_counter) and CPU time (time.process_time), the FFT pairs, a
 method at tol 1e-10, with the solver's error estimate beside it.  ``--before ROOT`` also loads
 the package under ROOT/spectral_contact (another checkout, e.g. ``git worktree add /tmp/b main``)
 under another name and interleaves its runs with this one's, alternating which goes first (the
-same load on a shared machine for both: the ratio is the figure to quote).  On a loaded machine the absolute times are not the
-targets' (issue 13: <= 3 ms on a quiet core); rerun quiet.  Writes speed_paper_scene.csv.
+same load on a shared machine for both: the ratio is the figure to quote).  On a loaded machine
+the absolute times are not the targets' (issue 13: <= 3 ms on a quiet core); rerun quiet.
+Writes speed_paper_scene.csv.
 """
 from __future__ import annotations
 
