@@ -130,7 +130,7 @@ def test_small_mu_frictional_loading_converges():
     there); Coulomb at every node and equilibrium."""
     r = onset(Scene(mu=0.05), steps=1, loading_steps=10, grid_points=1024)
     mu = 0.05
-    for k, s in enumerate(r.states):
+    for k in range(len(r.states)):
         excess = np.abs(r.shear[k]) - mu * r.pressure[k]
         assert excess.max() <= 1e-9 * mu * r.pressure[k].max()
         assert abs(r.grid.dx * r.pressure[k].sum() - r.scene.P) <= 1e-8 * r.scene.P
