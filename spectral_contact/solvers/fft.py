@@ -307,6 +307,8 @@ class _LineSolve:
         self.exponential = self.scene.interface_law == "exponential"
         self.indenter = None  # the cylinder, or a height function (made when loaded)
         self.image_amplitude = _IMAGE_AMPLITUDE * max(1.0, abs(prob.mu_contact) / 10.0)
+        if prob.visco:  # the long relaxation tails' images are summed exactly (tail_terms)
+            prob.margin = prob.film.domain_margin(prob.tol, tails_corrected=True)
 
     def unloaded(self) -> ContactResult:
         """P = 0: no contact, zero fields."""
