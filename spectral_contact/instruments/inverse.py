@@ -145,6 +145,39 @@ def _regularisation(prior, theta, free, scale, h, hyper):
             "hyperparameter_uncertainty": "not propagated"}
 
 
+SCREEN_STEP_H = 0.5
+"""Node step [h] of the envelope prior's screen under ``prior="auto"``: its log-evidence on
+nodes every h/2 was within 0.1-2.2 nats of that on its own h/8 nodes on 8 calibration records
+(and h/4 within 0.5), at a tenth of the cost (studies/README, inverse, speed)."""
+SCREEN_NATS = 10.0
+"""Under ``prior="auto"`` the envelope prior is fitted on its own nodes only if its screen's
+log-evidence comes within this of the contact prior's (else the contact prior is kept: the
+envelope's evidence cannot reach it with the screen's error)."""
+
+
+def _envelope_screen(x_m, zz_Pa, xz_Pa, thickness, poisson, view, apparatus, support):
+    """The envelope prior's maximum log-evidence (in the units of ``invert_line``'s
+    ``log_evidence``) on nodes every ``SCREEN_STEP_H`` h, or None where it cannot be
+    evaluated."""
+    from .sensor import _resolve
+
+    h = float(thickness)
+    x, dz, dxz = _check_record(x_m, zz_Pa, xz_Pa)
+    x, dz, dxz, _ = _bin(x, dz, dxz, BIN_STEP_H * h)
+    scale = max(float(np.max(np.abs(dz))), float(np.max(np.abs(dxz))))
+    symbols = _symbols(_resolve(apparatus) if view == "sensor" else None, h)
+    sup_h = None if support is None else (float(support[0]) / h, float(support[1]) / h)
+    try:
+        fwd = LineForward.build(x / h, Film(1.0, poisson), symbols, support=sup_h,
+                                step=SCREEN_STEP_H)
+        ev = _Evidence(fwd, dz / scale, dxz / scale, envelope=sup_h is None)
+        _, le, _ = _optimise(ev, dz / scale, dxz / scale, fwd.nodes[1] - fwd.nodes[0],
+                             ftol=1e-7, gtol=1e-2)
+    except (ValueError, ArithmeticError, np.linalg.LinAlgError):
+        return None
+    return float(le - 2 * x.size * math.log(scale)) if math.isfinite(le) else None
+
+
 BIN_STEP_H = 1.0 / 32.0
 """Records sampled finer than this [h] are averaged in consecutive groups of k samples (k the
 largest with k dx <= BIN_STEP_H h) before the inversion: for white noise the group means carry
@@ -264,22 +297,35 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
     if prior == "auto":
         kw = dict(thickness=thickness, poisson=poisson, view=view, apparatus=apparatus,
                   positive=positive, support=support, draws=draws, seed=seed, hyper=hyper)
-        env = invert_line(x_m, zz_Pa, xz_Pa, prior="envelope", **kw)
         try:
             con = invert_line(x_m, zz_Pa, xz_Pa, prior="contact", **kw)
             failed = None if math.isfinite(con.record["log_evidence"]) else "log-evidence not finite"
+        except InputError:
+            raise
         except (ValueError, IndexError, ArithmeticError, np.linalg.LinAlgError) as exc:
-            # (an InputError is a ValueError too, but the envelope fit above has passed the
-            # same checks: what fails here is the contact prior's window search)
+            # what fails here is the contact prior's window search, not the record's checks
             con, failed = None, f"{type(exc).__name__}: {exc}"
-        best = env if con is None or env.record["log_evidence"] > con.record["log_evidence"] \
-            else con
+        screen = None
+        if con is not None and failed is None:
+            screen = _envelope_screen(x_m, zz_Pa, xz_Pa, thickness, poisson, view, apparatus,
+                                      support)
+        if screen is not None and screen < con.record["log_evidence"] - SCREEN_NATS:
+            best, le_env = con, screen
+        else:
+            env = invert_line(x_m, zz_Pa, xz_Pa, prior="envelope", **kw)
+            le_env, screen = env.record["log_evidence"], None
+            best = env if con is None or failed or le_env > con.record["log_evidence"] else con
         best.record["regularisation"]["prior_choice"] = {
             "rule": "the prior of higher log-evidence on the same data (equal prior odds)",
             "log_evidence_contact": None if con is None else con.record["log_evidence"],
-            "log_evidence_envelope": env.record["log_evidence"],
+            "log_evidence_envelope": le_env,
+            "envelope_screened": (None if screen is None else
+                                  f"the envelope's evidence on nodes every {SCREEN_STEP_H:g} h "
+                                  f"(within ~2 nats of its h/8 nodes' on the calibration "
+                                  f"records) is more than {SCREEN_NATS:g} nats below the "
+                                  f"contact's: not refitted on h/8 nodes"),
             "contact_failed": failed,
-            "chosen": "envelope" if best is env else "contact"}
+            "chosen": "contact" if best is con else "envelope"}
         return best
     from ..physics.scene import check_poisson, check_positive
 
@@ -375,6 +421,10 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
     idx = np.nonzero(resolved & inside)[0]
     laws = fit_laws(p[idx], q[idx], cov_si[np.ix_(idx, idx)], cov_si[np.ix_(m + idx, m + idx)],
                     cov_si[np.ix_(idx, m + idx)])
+    if "note" in laws:  # say which nodes count, so that the text and JSON give the reason
+        laws["note"] += (f" (the fits use nodes where p > {RESOLVED_Z:g} sd(p), at least "
+                         f"{LAW_EDGE_GUARD:g} resolution lengths inside the contact interval; "
+                         f"{int(resolved.sum())} of {m} nodes have p > {RESOLVED_Z:g} sd)")
     fz, fx = fwd.apply(mean[:m], mean[m:])
     rec = {"load_N_per_m": P, "load_sigma_N_per_m": math.sqrt(max(vP, 0.0)),
            "tangential_load_N_per_m": Q, "tangential_load_sigma_N_per_m": math.sqrt(max(vQ, 0.0)),
