@@ -180,8 +180,18 @@ class ContactPrior:
         H = self.Gz / nz**2 + self.Gx / nx**2
         b = self.bz / nz**2 + self.bx / nx**2
         n = self.n
+        # B = Lk^T H Lk by m x m blocks (Lk = [[Lp, 0], [mu0 Lp, Lr]]): 7 products of m x m
+        # instead of 2 of 2m x 2m (a fifth of an evaluation's time)
+        H11, H12, H22 = H[:m, :m], H[:m, m:], H[m:, m:]
+        T1 = Lp.T @ (H11 + mu0 * H12.T)
+        T2 = Lp.T @ (H12 + mu0 * H22)
+        B = np.empty((2 * m, 2 * m))
+        B[:m, :m] = (T1 + mu0 * T2) @ Lp
+        B[:m, m:] = T2 @ Lr
+        B[m:, :m] = B[:m, m:].T
+        B[m:, m:] = Lr.T @ H22 @ Lr
         logev, Lb, mean = _gaussian_evidence(Lk, H, b, self.ez / nz**2 + self.ex / nx**2, n,
-                                             th[10] + th[11])
+                                             th[10] + th[11], B)
         if not (grad or full):
             return logev
         S = _posterior_covariance(Lb, Lk)
