@@ -205,11 +205,14 @@ def _mix_modes(ev, modes, free, hyper, h, known):
     wts = np.exp(les - les.max())
     wts /= wts.sum()
     means, covs, windows = [], [], []
+    held = free.copy()
+    if len(modes) > 1:  # l_p is integrated by the profile's points (``inverse_prior._modes``)
+        held[3] = False
     for th, _ in modes:
         _, (mk, ck, _) = ev.evaluate(th, full=True)
         sig, idx = None, []
         if hyper:
-            mk, ck, sig, idx = propagate(ev, th, free, mk, ck)
+            mk, ck, sig, idx = propagate(ev, th, held, mk, ck)
         means.append(mk)
         covs.append(ck)
         windows.append(_window_interval(th, sig, idx, h, known))

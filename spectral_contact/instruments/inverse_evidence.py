@@ -92,12 +92,26 @@ def _evidence_weight(H, b, mean, S):
     return 0.5 * (W + W.T)
 
 
-def _noise_gradient(g, ks, stats, mean, S, n):
-    """d logev / d log sigma_c = -n + (|d_c - M_c mean|^2 + tr(G_c S)) / sigma_c^2, into g[k]
-    for each (k, (G_c, b_c, e_c, sigma_c)) of ``zip(ks, stats)``."""
-    for k, (G, bb, ee, sig) in zip(ks, stats):
+def _noise_gradient(g, ks, ev, nz, nx, mean, S):
+    """d logev / d log sigma_c = -n + (|d_c - M_c mean|^2 + tr(G_c S)) / sigma_c^2 into g[k]
+    for the components (zz, xz) and indices ks of their log sd (statistics of ``ev``)."""
+    for k, G, bb, ee, sig in ((ks[0], ev.Gz, ev.bz, ev.ez, nz), (ks[1], ev.Gx, ev.bx, ev.ex, nx)):
         rr = ee - 2.0 * mean @ bb + mean @ G @ mean + np.sum(G * S)
-        g[k] = -n + rr / sig**2
+        g[k] = -ev.n + rr / sig**2
+
+
+def _posterior(ev, Lk, lthl, nz, nx, log_noise_sum, grad, full):
+    """log-evidence and, if ``grad`` or ``full``, (mean, S, H, W) (W None without ``grad``) of
+    the record's statistics ``ev`` under the prior factor Lk and noise sd (nz, nx);
+    ``lthl(H)`` returns Lk^T H Lk (each prior by its own block structure)."""
+    H = ev.Gz / nz**2 + ev.Gx / nx**2
+    b = ev.bz / nz**2 + ev.bx / nx**2
+    logev, Lb, mean = _gaussian_evidence(Lk, H, b, ev.ez / nz**2 + ev.ex / nx**2, ev.n,
+                                         log_noise_sum, lthl(H))
+    if not (grad or full):
+        return logev, None
+    S = _posterior_covariance(Lb, Lk)
+    return logev, (mean, S, H, _evidence_weight(H, b, mean, S) if grad else None)
 
 
 # hyperparameters: log l_p, log l_q, log s_p, log s_q, log s_out, log sigma_zz, log sigma_xz,
@@ -176,24 +190,22 @@ class _Evidence:
         C2 = np.zeros((2 * m, 2 * m))
         C2[:m, :m] = C2[m:, m:] = Cr
         K = s[:, None] * C * s[None, :] + e[:, None] * C2 * e[None, :]
-        H = self.Gz / nz**2 + self.Gx / nx**2
-        b = self.bz / nz**2 + self.bx / nx**2
         Lk = np.zeros_like(K)
         Lk[:m, :m] = np.linalg.cholesky(K[:m, :m])
         Lk[m:, m:] = np.linalg.cholesky(K[m:, m:])
         Lp, Lq = Lk[:m, :m], Lk[m:, m:]  # block-diagonal: Lk^T H Lk by blocks
-        HL = np.hstack([H[:, :m] @ Lp, H[:, m:] @ Lq])
-        B = np.vstack([Lp.T @ HL[:m], Lq.T @ HL[m:]])
-        n = self.n
-        logev, Lb, mu = _gaussian_evidence(Lk, H, b, self.ez / nz**2 + self.ex / nx**2, n,
-                                           th[5] + th[6], B)
-        if not (grad or full):
+
+        def lthl(H):
+            HL = np.hstack([H[:, :m] @ Lp, H[:, m:] @ Lq])
+            return np.vstack([Lp.T @ HL[:m], Lq.T @ HL[m:]])
+
+        logev, post = _posterior(self, Lk, lthl, nz, nx, th[5] + th[6], grad, full)
+        if post is None:
             return logev
-        S = _posterior_covariance(Lb, Lk)
+        mu, S, H, W = post
         out = [logev]
         if grad:
             g = np.zeros(_NPAR)
-            W = _evidence_weight(H, b, mu, S)
             ss = s[:, None] * s[None, :]
             ee = e[:, None] * e[None, :]
             g[0] = 0.5 * np.sum(W[:m, :m] * dCp * ss[:m, :m])
@@ -203,8 +215,7 @@ class _Evidence:
             WC, WC2 = (W * C) @ s, (W * C2) @ e
             for k, (ds_, de_) in dsd.items():
                 g[k] = float(ds_ @ WC + de_ @ WC2)
-            _noise_gradient(g, (5, 6), ((self.Gz, self.bz, self.ez, nz),
-                                        (self.Gx, self.bx, self.ex, nx)), mu, S, n)
+            _noise_gradient(g, (5, 6), self, nz, nx, mu, S)
             out.append(g)
         if full:
             out.append((mu, S, H))

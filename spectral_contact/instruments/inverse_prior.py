@@ -51,13 +51,11 @@ import math
 import numpy as np
 
 from .inverse_evidence import (
-    _evidence_weight,
-    _gaussian_evidence,
     _logistic,
     _maximise,
     _noise_gradient,
     _noise_guess,
-    _posterior_covariance,
+    _posterior,
     _statistics,
 )
 from .inverse_evidence import _matern52 as _matern
@@ -177,29 +175,27 @@ class ContactPrior:
         Lk[:m, :m] = Lp
         Lk[m:, :m] = mu0 * Lp
         Lk[m:, m:] = Lr
-        H = self.Gz / nz**2 + self.Gx / nx**2
-        b = self.bz / nz**2 + self.bx / nx**2
-        n = self.n
-        # B = Lk^T H Lk by m x m blocks (Lk = [[Lp, 0], [mu0 Lp, Lr]]): 7 products of m x m
-        # instead of 2 of 2m x 2m (a fifth of an evaluation's time)
-        H11, H12, H22 = H[:m, :m], H[:m, m:], H[m:, m:]
-        T1 = Lp.T @ (H11 + mu0 * H12.T)
-        T2 = Lp.T @ (H12 + mu0 * H22)
-        B = np.empty((2 * m, 2 * m))
-        B[:m, :m] = (T1 + mu0 * T2) @ Lp
-        B[:m, m:] = T2 @ Lr
-        B[m:, :m] = B[:m, m:].T
-        B[m:, m:] = Lr.T @ H22 @ Lr
-        logev, Lb, mean = _gaussian_evidence(Lk, H, b, self.ez / nz**2 + self.ex / nx**2, n,
-                                             th[10] + th[11], B)
-        if not (grad or full):
+
+        def lthl(H):
+            # Lk^T H Lk by m x m blocks (Lk = [[Lp, 0], [mu0 Lp, Lr]]): 7 products of m x m
+            # instead of 2 of 2m x 2m (a fifth of an evaluation's time)
+            H11, H12, H22 = H[:m, :m], H[:m, m:], H[m:, m:]
+            T1 = Lp.T @ (H11 + mu0 * H12.T)
+            T2 = Lp.T @ (H12 + mu0 * H22)
+            B = np.empty((2 * m, 2 * m))
+            B[:m, :m] = (T1 + mu0 * T2) @ Lp
+            B[:m, m:] = T2 @ Lr
+            B[m:, :m] = B[:m, m:].T
+            B[m:, m:] = Lr.T @ H22 @ Lr
+            return B
+
+        logev, post = _posterior(self, Lk, lthl, nz, nx, th[10] + th[11], grad, full)
+        if post is None:
             return logev
-        S = _posterior_covariance(Lb, Lk)
+        mean, S, H, Wm = post  # d logev = 1/2 tr(Wm dK) (``inverse_evidence._evidence_weight``)
         out = [logev]
         if grad:
             g = np.zeros(_N)
-            # d logev = 1/2 tr(Wm dK) (``inverse_evidence._evidence_weight``)
-            Wm = _evidence_weight(H, b, mean, S)
             Wpp, Wpq, Wqq = Wm[:m, :m], Wm[:m, m:], Wm[m:, m:]
             Wp = Wpp + 2.0 * mu0 * Wpq + mu0 * mu0 * Wqq  # K_f = [[Kp, mu0 Kp], [., mu0^2 Kp + Kr]]
             Wp = 0.5 * (Wp + Wp.T)
@@ -222,8 +218,7 @@ class ContactPrior:
                 vt = pc["st2"] * ((Wqq * pc["Ct"]) @ ind)
                 g[0] = float(pc["dwc"] @ vp + pc["dic"] @ vt)
                 g[1] = float(pc["dwl"] @ vp + pc["dil"] @ vt)
-            _noise_gradient(g, (10, 11), ((self.Gz, self.bz, self.ez, nz),
-                                          (self.Gx, self.bx, self.ex, nx)), mean, S, n)
+            _noise_gradient(g, (10, 11), self, nz, nx, mean, S)
             out.append(g)
         if full:
             out.append((mean, S, H))
@@ -445,11 +440,8 @@ the tractions are zero beyond (the contact prior's own statement, bar its nugget
 def fit_contact(xh, film, symbols, zs, xs, support=None):
     """Two passes: coarse nodes over the record +- MARGIN_H (the window's search: a scan of
     windows, one local search from the best, an edge scan), then fine nodes on the window +-
-    EDGE_SPAN_H from the first pass's optimum, an edge scan, and ``MODE_STARTS``: the evidence
-    can have two maxima of nearly equal height, one with a rigid p (l_p at its bound) and the
-    shape's detail put in the varying-mu part, one with a flexible p and a smooth mu (the data
-    do not tell them apart); every distinct maximum within ``MODE_NATS`` of the best is
-    returned, for ``invert_line`` to mix by evidence.
+    EDGE_SPAN_H from the first pass's optimum, an edge scan, and the evidence's profile over
+    l_p (``_modes``), whose points ``invert_line`` mixes by evidence.
     Returns (forward map, ContactPrior, [(theta, log-evidence), ...] best first, free mask)."""
     from .inverse_forward import MARGIN_H, LineForward
 
@@ -458,7 +450,7 @@ def fit_contact(xh, film, symbols, zs, xs, support=None):
                                 step=min(FINE_STEP_H, (support[1] - support[0]) / 8))
         ev = ContactPrior(fwd, zs, xs, known=True)
         th, le, free = optimise_contact(ev, zs, xs)
-        return fwd, ev, _modes(ev, zs, xs, th, le), free
+        return fwd, ev, _modes(ev, zs, xs, th, le, free), free
     fwd = LineForward.build(xh, film, symbols, step=COARSE_STEP_H)
     ev = ContactPrior(fwd, zs, xs)
     th, le, free = optimise_contact(ev, zs, xs)
@@ -474,36 +466,52 @@ def fit_contact(xh, film, symbols, zs, xs, support=None):
         if v2 <= le + 0.01:
             break
         th, le, free = optimise_contact(ev, zs, xs, start=t2)
-    return fwd, ev, _modes(ev, zs, xs, th, le), free
+    return fwd, ev, _modes(ev, zs, xs, th, le, free), free
 
 
-def _modes(ev, zs, xs, th, le):
-    """The maximum (th, le) and those reached from it with l_p reset to each of
-    ``MODE_STARTS``, distinct and within ``MODE_NATS`` of the best (``_distinct``)."""
-    modes = [(th, le)]
-    for lp in MODE_STARTS:
-        t = th.copy()
-        t[3] = math.log(lp)
-        modes.append(optimise_contact(ev, zs, xs, start=t)[:2])
-    return _distinct(modes)
+def _modes(ev, zs, xs, th, le, free=None):
+    """The maximum (th, le) and the profile of the evidence over log l_p: l_p stepped by
+    ``PROFILE_STEP`` in its log both ways from the maximum (to the search's bounds, at most
+    ``PROFILE_POINTS`` a side, until the evidence falls ``MODE_NATS`` below the best seen),
+    the other hyperparameters maximised at each step (warm-started from the previous one).
+    These points, on a uniform grid in log l_p, are the quadrature nodes of l_p's integral
+    (log-uniform prior: weights exp(log-evidence)); ``invert_line`` mixes their posteriors,
+    each with the other hyperparameters' Laplace propagation.  Why: the evidence can be nearly
+    flat in l_p over a factor 10 (a rigid p with the shape's detail in the varying-mu part, or
+    a flexible p with a smooth mu: the data do not tell them apart), and the window moves with
+    l_p (on the varying-mu sensor records by 0.1-0.15 mm, several of its Laplace sd at the
+    rigid end): a Laplace step at one maximum, or a grid in l_p with the window held, misses
+    that.  Returns [(theta, log-evidence), ...] best first, within MODE_NATS of the best."""
+    if free is None:
+        free = np.ones(_N, bool)
+        free[[5, 7, 8]] = False
+        if ev.known:
+            free[[0, 1]] = False
+    lo, hi = _bounds(ev, 1.0)  # the core's data are scaled to a peak of 1
+    fr = free.copy()
+    fr[3] = False
+    pts = [(th, le)]
+    for direction in (1.0, -1.0):
+        t = th
+        for k in range(1, PROFILE_POINTS + 1):
+            v = th[3] + direction * k * PROFILE_STEP
+            if not lo[3] - 1e-9 <= v <= hi[3] + 1e-9:
+                break
+            t0 = t.copy()
+            t0[3] = v
+            t, val = _maximise(ev, t0, fr, lo, hi, maxiter=200, ftol=OPT_FTOL, gtol=OPT_GTOL)
+            if t is None:
+                break
+            pts.append((t, val))
+            if val < max(q[1] for q in pts) - MODE_NATS:
+                break
+    best = max(q[1] for q in pts)
+    return sorted([q for q in pts if q[1] >= best - MODE_NATS], key=lambda q: -q[1])
 
 
-MODE_STARTS = (1.0, 20.0)
-"""l_p [h] from which the second pass is started again (a flexible and a rigid p)."""
+PROFILE_STEP = 0.5
+"""Step of the evidence's profile in log l_p (a factor 1.65)."""
+PROFILE_POINTS = 6
+"""At most this many profile steps on each side of the maximum."""
 MODE_NATS = 5.0
-"""Maxima of the evidence this far below the best (weight e^-5 < 1 %) are dropped."""
-
-
-def _distinct(modes):
-    """Distinct maxima (window edges apart by > 0.01 h or l_p by > 5 %, or evidence by > 0.01),
-    within MODE_NATS of the best, best first."""
-    modes = sorted(modes, key=lambda m: -m[1])
-    out = []
-    for th, le in modes:
-        if le < modes[0][1] - MODE_NATS:
-            continue
-        same = any(abs(le - l2) < 0.01 and abs(th[0] - t2[0]) < 0.01 and abs(th[1] - t2[1]) < 0.01
-                   and abs(th[3] - t2[3]) < 0.05 for t2, l2 in out)
-        if not same:
-            out.append((th, le))
-    return out
+"""Profile points this far below the best (weight e^-5 < 1 %) are dropped."""
