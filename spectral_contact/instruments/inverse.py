@@ -27,20 +27,22 @@ multiple of the same profile (a local mu varying across the contact) + a constan
 interval), the amplitudes, lengths, mu0 and the two noise sd (one per data component, white,
 Gaussian) maximise the evidence (the marginal likelihood, closed form, analytic gradient); none
 is set by hand.  Two passes: nodes every h/4 over the record +- ``MARGIN_H`` h to place the
-window (three starts), then nodes every h/16 on the window +- 1.5 h (the tractions are zero
-beyond: the prior's statement), with a scan of each edge against a second maximum of the
-evidence.  ``prior="envelope"``: the previous prior (Matern-1/2 processes inside an
-evidence-placed logistic envelope, nodes every h/8 over the record +- ``MARGIN_H`` h), kept for
-tractions that are not a contact's (no square-root edges).  The evidence can have two maxima of
-nearly equal height (a rigid p with the shape's detail in the varying-mu part, or a flexible p
-with a smooth mu): the second pass is restarted from a flexible and a rigid p, and the posteriors
-of the distinct maxima within 5 nats of the best are mixed with weights exp(log-evidence)
-(``regularisation.evidence_maxima``); one maximum alone gave 2-sd coverage of p near 0.5 on the
-varying-mu records.
+window (the evidence on a grid of windows, one local search from the best, an edge scan), then
+nodes every h/16 on the window +- 0.75 h (the tractions are zero beyond: the prior's
+statement), with a scan of each edge against a second maximum of the evidence.
+``prior="envelope"``: the previous prior (Matern-1/2 processes inside an evidence-placed
+logistic envelope, nodes every h/8 over the record +- ``MARGIN_H`` h), kept for tractions that
+are not a contact's (no square-root edges).  The evidence can be nearly flat in p's length l_p
+over a factor 10 (a rigid p with the shape's detail in the varying-mu part, or a flexible p with
+a smooth mu), and the window moves with l_p: l_p is integrated on the evidence's profile (l_p
+stepped by 0.5 in its log, the other hyperparameters re-maximised at each step; the points
+within 5 nats of the best mixed with weights exp(log-evidence), ``regularisation.
+evidence_maxima``); one maximum alone gave 2-sd coverage of p near 0.5 on the varying-mu
+records, two restarts (a rigid and a flexible p) 0.60, the profile 0.71 (studies/README).
 
 Posterior.  Gaussian given the hyperparameters; with ``hyper=True`` (default, contact prior)
-the hyperparameters' own uncertainty is added to first order (Laplace: S + J Sigma_theta J^T,
-``inverse_prior.propagate``).  From it:
+the other hyperparameters' own uncertainty is added to first order at each profile point
+(Laplace: S + J Sigma_theta J^T, ``inverse_prior.propagate``).  From it:
 
 * P = Int p dx, Q = Int q dx (the hat functions integrate to dt) and Q/P, with sigmas from the
   covariance (Q/P by the first-order (delta) rule with the P-Q correlation);

@@ -42,7 +42,9 @@ posterior mean of the tractions with respect to them (central differences) and r
 covariance S + J Sigma_theta J^T: the first-order total variance of the tractions once the
 hyperparameters are integrated over rather than fixed at their maximum.  A length at a bound
 of its search (l_p at 20 h, the evidence flat toward an infinitely smooth p) is integrated on a
-grid instead (``propagate``).
+grid instead (``propagate``).  l_p itself is integrated on the evidence's profile (``_modes``:
+the other hyperparameters re-maximised at each l_p, as the window moves with it), and
+``propagate`` then integrates the others at each profile point.
 """
 from __future__ import annotations
 
