@@ -5,9 +5,11 @@ first contact, the tangential load's vector, the next step's predicted sets, the
 
 The loading: the normal load first (``loading="frictional"``: in ``loading_steps`` equal steps
 with the incremental Coulomb law acting, from the frictionless contact at the first load, all
-stuck; ``"frictionless"``: that contact at the full load, q = 0), then the tangential loads
-Q/(mu P) of ``path``, each step from the previous state (the slip history kept), its first sets
-predicted from the last two steps where the path goes on in one direction.
+stuck; a node coming into contact within a step is held from where it touched, predicted from
+the last two steps, ``numerics.partial_slip.entry_motion``; ``"frictionless"``: that contact
+at the full load, q = 0), then the tangential loads Q/(mu P) of ``path``, each step from the
+previous state (the slip history kept), its first sets predicted from the last two steps where
+the path goes on in one direction.
 
 The refinement: the whole loading on N/2 and N points (per axis), the per-step estimate 1.5 x
 their measures' difference plus the periodic images' bound, doubled while it exceeds tol (at
@@ -17,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..numerics.partial_slip import PartialSlipOperator, solve_slip_step
+from ..numerics.partial_slip import PartialSlipOperator, entry_motion, solve_slip_step
 
 __all__ = ["Dimension", "LoadingRun", "refine", "differences", "load_step_estimates",
            "with_load_steps", "step_record"]
@@ -62,11 +64,13 @@ class LoadingRun:
             guess.p, guess.d = pressure.copy(), d0
             before = None
             for k in range(1, loading_steps + 1):
+                entry = None
                 if k > 1:
                     guess = dim.predict(before, state, f, amu) \
                         if k > 2 and dim.predict_loading else None
+                    entry = entry_motion(f, before, state) if k > 2 else None
                 new = solve_slip_step(op, f, state, P * k / loading_steps, dim.tangential(0.0),
-                                      amu, guess=guess, accept=accept, rtol=rtol)
+                                      amu, guess=guess, accept=accept, rtol=rtol, entry=entry)
                 before, state = state, self._count(new)
         else:
             q0 = np.zeros_like(dim.unloaded(n).q)
