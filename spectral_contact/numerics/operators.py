@@ -10,9 +10,13 @@ so that the operator can also build
   contact of width W cannot resolve below k_c ~ pi/W: it turns the contact operator into an
   order-0 one, so GMRES needs about as many iterations at every grid size);
 * ``op + c``: the symbol S + c (a local term: e.g. a linear interface compliance).
+
+``low_rank``: terms a (b . f) added to the periodic convolution (``tail_terms``: a viscoelastic
+film's long relaxation tails, whose periodic images are summed exactly).
 """
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
@@ -20,7 +24,7 @@ import numpy as np
 from .fft import get_rfft
 from .grid import Grid
 
-__all__ = ["FourierOperator"]
+__all__ = ["FourierOperator", "tail_terms"]
 
 Symbol = Callable[[tuple, np.ndarray], np.ndarray]
 
@@ -33,10 +37,11 @@ class FourierOperator:
     there).  ``constant`` is added to the symbol everywhere.
     """
 
-    def __init__(self, grid: Grid, symbol: Symbol, constant: complex = 0.0):
+    def __init__(self, grid: Grid, symbol: Symbol, constant: complex = 0.0, low_rank=()):
         self.grid = grid
         self.symbol_function = symbol
         self.constant = constant
+        self.low_rank = tuple(low_rank)  # ((a, b), ...): the operator adds a (b . f)
         self._preconditioners: dict[float, np.ndarray] = {}
 
     def _evaluate(self, kmag: np.ndarray) -> np.ndarray:
@@ -53,7 +58,10 @@ class FourierOperator:
 
     def apply(self, field: np.ndarray) -> np.ndarray:
         """The operator applied to a real field of shape ``grid.shape`` (one FFT pair)."""
-        return get_rfft(self.grid.shape).apply(field, self.symbol)
+        out = get_rfft(self.grid.shape).apply(field, self.symbol)
+        for a, b in self.low_rank:
+            out += a * float(b @ field)
+        return out
 
     def apply_symbol(self, field: np.ndarray, symbol: np.ndarray) -> np.ndarray:
         """Another symbol on the same grid (e.g. ``preconditioner(k_c)``) applied to ``field``."""
@@ -81,6 +89,33 @@ class FourierOperator:
 
     def __add__(self, c) -> FourierOperator:
         """The operator S + c (c a real or complex constant)."""
-        return FourierOperator(self.grid, self.symbol_function, self.constant + c)
+        return FourierOperator(self.grid, self.symbol_function, self.constant + c, self.low_rank)
 
     __radd__ = __add__
+
+
+def tail_terms(shape: tuple, lengths: tuple, poles) -> tuple:
+    """The rank-one corrections that turn a line grid's periodic convolution into the isolated
+    (aperiodic) one for kernels with long one-sided exponential tails ``poles`` ((l, B): K(s) =
+    B exp(s/l)/|l| for s/l < 0, ``Film.tail_poles``), as ((a, b), ...) for ``FourierOperator``.
+
+    The periodic sum of that tail differs from it, for every s = x - x' in (-L, L) (both
+    points on one period, L the period), by B q exp(s/l) / (|l| (1 - q)), q = exp(-L/|l|): one
+    exponential in s, i.e. exp(x/l) exp(-x'/l), rank one.  The other parts of the kernel decay
+    at the film's elastic rate (the period's margin).  So u_isolated = u_periodic + a (b . p)
+    with a = -(B / (|l| (1 - q))) exp((x - x_m)/l - L/(2|l|)), b = dx exp(-(x - x_m)/l -
+    L/(2|l|)) on the nodes (x_m the period's middle: both exponents <= 0, no overflow).  Only
+    for 1D grids (surfaces: none, ``()``)."""
+    if len(shape) != 1 or not poles:
+        return ()
+    n, L = shape[0], lengths[0]
+    dx = L / n
+    s = (np.arange(n) - n // 2) * dx
+    out = []
+    for length, B in poles:
+        al = abs(length)
+        half = 0.5 * L / al
+        a = -(B / (al * -math.expm1(-2.0 * half))) * np.exp(s / length - half)
+        b = dx * np.exp(-s / length - half)
+        out.append((a, b))
+    return tuple(out)

@@ -236,10 +236,45 @@ class ViscoelasticFilm(Film):
         behind the contact (0 when not moving)."""
         return abs(self.speed) * max(self.retardation_times()) if self.moving else 0.0
 
-    def tail_amplitude(self) -> float:
+    def tail_poles(self, mu: float = 0.0) -> list[tuple[float, float]]:
+        """(l_j, B_j) of the relaxation tails that the line solver corrects exactly: l_j = V
+        tau_r,j (signed like V) with |l_j| >= ``TAIL_CORRECTED`` / ``decay_rate``, and B_j =
+        c_j H(-i/l_j), H the elastic symbol continued to k = -i/l (``partial_fractions``: R =
+        r + sum c_j / (1 - i k l_j)).
+
+        The kernel of c_j H(k)/(1 - i k l_j) has, besides the elastic film's poles, one at k =
+        -i/l_j: K_j(s) = B_j exp(s/l_j)/|l_j| for s/l_j < 0 (behind the load) plus terms that
+        decay at the elastic rate (checked against a 2^22-point kernel at l = 10 h and 100 h,
+        mu 0 and 2: 1e-4 relative).  With y = h/l (incompressible film, H = [F0(kh) + i mu
+        F1(kh)]/(2k) continued: sinh 2K -> -i sin 2y, K^2 -> -y^2):
+
+            H(-i/l) = h [(sin 2y - 2y)/(2y) + mu y] / (cos 2y + 1 - 2y^2),
+
+        -y^2 h/3 + mu y h/2 for y -> 0: a long tail weighs ~ (h/l)^2 without friction, ~ mu h/l
+        with it (Amontons only: a Prony film takes no other friction law).  Terms
+        with |l| < TAIL_CORRECTED / decay_rate decay within a few elastic decay lengths (their
+        pole is near D's zero at y = 0.739, where B diverges and the elastic poles' residues
+        with it): they stay in ``domain_margin``."""
+        if not self.moving:
+            return []
+        _, terms = self.partial_fractions()
+        h = self.thickness
+        out = []
+        for c, tr in terms:
+            length = self.speed * tr
+            if abs(length) * self.decay_rate < TAIL_CORRECTED:
+                continue
+            y = h / length
+            D = math.cos(2.0 * y) + 1.0 - 2.0 * y * y
+            num = (math.sin(2.0 * y) - 2.0 * y) / (2.0 * y) + mu * y
+            out.append((length, c * h * num / D))
+        return out
+
+    def tail_amplitude(self, length: float | None = None) -> float:
         """Relative amplitude of the relaxation tail behind the contact: c min(1, (2h/l)^2), c =
-        1 - E_inf/E_0 the relaxing part's weight, l = ``tail_length``.  A tail much longer than
-        the film is thick carries the elastic sinking smeared over l, whose first two moments
+        1 - E_inf/E_0 the relaxing part's weight, l = ``length`` (default ``tail_length``).  A
+        tail much longer than the film is thick carries the elastic sinking smeared over l,
+        whose first two moments
         vanish on an incompressible film (H ~ k^2/3 at small k): its amplitude falls as
         (h/l)^2 (for l >> h, the tail's residue H(-i/l)/l ~ 1/(3 l^3) over the contact's
         1/l).  Used for the period's margin only; the images' effect is then measured
@@ -247,22 +282,31 @@ class ViscoelasticFilm(Film):
         if not self.moving:
             return 0.0
         c = 1.0 - self.relaxed_young / self.glassy_young
-        return c * min(1.0, (2.0 * self.thickness / self.tail_length) ** 2)
+        return c * min(1.0, (2.0 * self.thickness / (length or self.tail_length)) ** 2)
 
-    def domain_margin(self, tol: float) -> float:
-        """The elastic margin plus the tail's: tail_length ln(100 A/tol), A =
-        ``tail_amplitude`` (the two decays add, the tail being the elastic sinking smeared
-        behind the load over tail_length).  Lines measure the images (``solvers.fft``).
-        (Tried and reverted: a shorter line margin, ln(A/tol), with the images measured on twice
-        the period: the paper's scene (mu 2) at 10 m/s then kept changing by 6.4e-4 > tol/4 at
-        tol 1e-3 over three doublings, and 1-3 m/s took 4-7 times the elastic solve instead of
-        0.7-1.6; for surfaces a 20 times larger amplitude: the sphere's changes on twice the
-        period did not fall with it (0.3 m/s: 1.7e-3 -> 9.7e-4, 1 m/s: 5.2e-4 -> 7.8e-4), so
-        they are not the tail's images alone; studies/README, viscoelastic.)"""
+    def domain_margin(self, tol: float, tails_corrected: bool = False) -> float:
+        """The elastic margin plus the tail's: l ln(100 A/tol), A = ``tail_amplitude(l)`` (the
+        two decays add, the tail being the elastic sinking smeared behind the load over l),
+        l = ``tail_length``; ``tails_corrected`` (lines: the tails of ``tail_poles`` have their
+        images summed exactly by the solver): l the longest retardation length left, < 2.7 h,
+        or the elastic margin alone.  The images are then measured (``solvers.fft``).
+        (Tried and reverted before the exact sum: a shorter line margin, ln(A/tol), with the
+        images measured on twice the period: the paper's scene (mu 2) at 10 m/s kept changing
+        by 6.4e-4 > tol/4 at tol 1e-3 over three doublings: the images of a tail l >> L fall
+        only as l/L, not exponentially (``numerics.operators.tail_terms``).  For surfaces a 20
+        times larger amplitude: the sphere's changes on twice the period did not fall with it
+        (0.3 m/s: 1.7e-3 -> 9.7e-4, 1 m/s: 5.2e-4 -> 7.8e-4), so they are not the tail's
+        images alone; studies/README, viscoelastic.)"""
         m = super().domain_margin(tol)
         if not self.moving:
             return m
-        return m + self.tail_length * max(math.log(100.0 * self.tail_amplitude() / tol), 0.0)
+        tail = self.tail_length
+        if tails_corrected:  # the line solver sums the long tails' images (``tail_poles``)
+            tail = max([abs(self.speed) * t for t in self.retardation_times()
+                        if abs(self.speed) * t * self.decay_rate < TAIL_CORRECTED], default=0.0)
+            if tail == 0.0:
+                return m
+        return m + tail * max(math.log(100.0 * self.tail_amplitude(tail) / tol), 0.0)
 
     def edge_scales(self) -> list[tuple[float, float]]:
         """(|V| tau_i, E_i/E_inf) per term: the widths of the edge structure each term makes
@@ -300,6 +344,11 @@ class ViscoelasticFilm(Film):
             return 0.0
         s = min(a, self.thickness)
         return 2.0 * abs(self.slow_shift) * self.tail_length / (s * s)
+
+
+TAIL_CORRECTED = 2.0
+"""|l| x decay_rate from which a relaxation tail's periodic images are summed exactly on line
+grids (``ViscoelasticFilm.tail_poles``): l >= 2.7 h on the incompressible film."""
 
 
 def _atan_ratio(t: float) -> float:
