@@ -54,6 +54,7 @@ from .fft import MAX_POINTS, MIN_POINTS, solve_fft
 from .onset_core import (
     Dimension,
     LoadingRun,
+    OnsetBase,
     differences,
     refine,
     step_record,
@@ -375,7 +376,7 @@ def solve_onset(scene: Scene, steps: int = 20, tol: float = DEFAULT_TOL, *, load
                        wall_time_s=time.perf_counter() - t0, counters=counters, film=film)
 
 
-class OnsetResult:
+class OnsetResult(OnsetBase):
     """The loading of ``solve_onset``: per step (0 = after the normal load, then 1..steps) the
     dimensionless fields on the grid and the measurements; SI views; ``summary()`` the JSON
     record; ``plot()`` a Figure.
@@ -389,25 +390,11 @@ class OnsetResult:
     def __init__(self, scene, path, loading, loading_steps, tol, run, estimates,
                  stick_estimates, steady, tolerance_met, wall_time_s, counters, film,
                  load_step_estimates=None):
-        self.scene = scene
-        self.n_steps = len(path)
-        self.cycle = len(path) > 1 and min(path) < 0.0
-        self.loading = loading
-        self.loading_steps = loading_steps
-        self.tol = tol
-        self.grid = run.grid
+        super().__init__(scene, path, loading, loading_steps, tol, run, estimates,
+                         stick_estimates, steady, tolerance_met, wall_time_s, counters, film,
+                         load_step_estimates)
         self.x = run.grid.x
-        states = [run.loaded] + run.states
-        self.states = states
-        self.measures = run.measures
-        self.error_estimates = [float(e) for e in estimates]
-        self.stick_error_estimates = [float(e) for e in stick_estimates]
-        self.load_step_estimates = [float(e) for e in (load_step_estimates
-                                                       or [0.0] * len(estimates))]
-        self.steady = steady
-        self.tolerance_met = bool(tolerance_met)
-        self.wall_time_s = wall_time_s
-        self.counters = counters
+        states = self.states
         self.pressure = np.array([s.p for s in states])
         self.shear = np.array([s.q for s in states])
         self.slip = np.array([s.slip for s in states])
@@ -421,7 +408,6 @@ class OnsetResult:
             xz.append(sxz)
         self.base_sigma_zz = np.array(zz)
         self.base_sigma_xz = np.array(xz)
-        self.Q_over_muP = np.array([0.0] + list(path))
 
     # --- SI ------------------------------------------------------------------------------------
     def _si_step(self, k: int) -> dict:

@@ -34,14 +34,7 @@ from ..physics.indenters import Paraboloid
 from ..physics.scene import Scene3D, check_tol
 from .base import check_onset_mu
 from .fft3d import MAX_POINTS_3D, MIN_POINTS_3D, solve_fft3d
-from .onset_core import (
-    Dimension,
-    LoadingRun,
-    differences,
-    refine,
-    step_record,
-    with_load_steps,
-)
+from .onset_core import Dimension, LoadingRun, OnsetBase, differences, refine, step_record, with_load_steps
 
 __all__ = ["solve_onset3d", "OnsetResult3D", "DEFAULT_TOL_3D", "STEP_KEYS_3D"]
 
@@ -209,30 +202,10 @@ def solve_onset3d(scene: Scene3D, path, tol: float = DEFAULT_TOL_3D, *,
                          time.perf_counter() - t0, counters, film, step_est)
 
 
-class OnsetResult3D:
+class OnsetResult3D(OnsetBase):
     """The loading of ``solve_onset3d``: per step (0 = after the normal load) the fields on the
     grid (flat arrays reshaped [x, y] by ``field``), ``measures``, ``summary()`` (JSON, SI),
     ``profiles()`` (the y = 0 line, tidy), ``plot()`` (a Figure)."""
-
-    def __init__(self, scene, path, loading, loading_steps, tol, run, estimates, stick_estimates,
-                 steady, tolerance_met, wall_time_s, counters, film, load_step_estimates=None):
-        self.scene = scene
-        self.n_steps = len(path)
-        self.cycle = min(path) < 0.0
-        self.loading, self.loading_steps, self.tol = loading, loading_steps, tol
-        self.grid = run.grid
-        self.states = [run.loaded] + run.states
-        self.measures = run.measures
-        self.error_estimates = [float(e) for e in estimates]
-        self.stick_error_estimates = [float(e) for e in stick_estimates]
-        self.load_step_estimates = [float(e) for e in (load_step_estimates
-                                                       or [0.0] * len(estimates))]
-        self.steady = steady
-        self.tolerance_met = bool(tolerance_met)
-        self.wall_time_s = wall_time_s
-        self.counters = counters
-        self.film = film
-        self.Q_over_muP = np.array([0.0] + list(path))
 
     def field(self, k: int, name: str) -> np.ndarray:
         """A field of step k as an [x, y] array: "pressure", "shear_x", "shear_y", "stick",

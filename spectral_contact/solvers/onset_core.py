@@ -22,7 +22,7 @@ import numpy as np
 from ..numerics.partial_slip import PartialSlipOperator, entry_motion, solve_slip_step
 
 __all__ = ["Dimension", "LoadingRun", "refine", "differences", "load_step_estimates",
-           "with_load_steps", "step_record"]
+           "with_load_steps", "step_record", "OnsetBase"]
 
 LEVEL_MARGIN = 1.5  # as solvers.fft's estimate: 1.5 x the difference of the last two levels
 
@@ -208,3 +208,32 @@ def step_record(result, k: int, keys: dict) -> dict:
             "error_estimate": result.error_estimates[k],
             "stick_error_estimate": result.stick_error_estimates[k],
             "load_step_error_estimate": result.load_step_estimates[k]}
+
+
+class OnsetBase:
+    """What a line's and a surface's onset results share: the scene, the path's length, the
+    loading, tol, the grid, the states (0 = after the normal load) and their measures, the
+    per-step estimates (``error_estimates``, ``stick_error_estimates``,
+    ``load_step_estimates``), the steady solution, ``tolerance_met``, the wall time, the
+    counters, the film and ``Q_over_muP`` (0, then the path)."""
+
+    def __init__(self, scene, path, loading, loading_steps, tol, run, estimates,
+                 stick_estimates, steady, tolerance_met, wall_time_s, counters, film,
+                 load_step_estimates=None):
+        self.scene = scene
+        self.n_steps = len(path)
+        self.cycle = len(path) > 1 and min(path) < 0.0
+        self.loading, self.loading_steps, self.tol = loading, loading_steps, tol
+        self.grid = run.grid
+        self.states = [run.loaded] + run.states
+        self.measures = run.measures
+        self.error_estimates = [float(e) for e in estimates]
+        self.stick_error_estimates = [float(e) for e in stick_estimates]
+        self.load_step_estimates = [float(e) for e in (load_step_estimates
+                                                       or [0.0] * len(estimates))]
+        self.steady = steady
+        self.tolerance_met = bool(tolerance_met)
+        self.wall_time_s = wall_time_s
+        self.counters = counters
+        self.film = film
+        self.Q_over_muP = np.array([0.0] + list(path))
