@@ -14,7 +14,8 @@ exceeds tol (then, or with a fixed grid, ``tolerance_met`` says).
 The stick zone's radius sqrt(area/pi) has its own estimate (``stick_error_estimate``).
 
 Default tol 1e-2 (``DEFAULT_TOL_3D``): each level costs N^2 points per step and the loading
-has 30 steps by default; 1e-2 is about what a MEMS measurement resolves.
+has 40 steps by default (20 loading, 20 tangential); 1e-2 is about what a MEMS measurement
+resolves.
 """
 from __future__ import annotations
 
@@ -34,7 +35,16 @@ from ..physics.indenters import Paraboloid
 from ..physics.scene import Scene3D, check_tol
 from .base import check_onset_mu
 from .fft3d import MAX_POINTS_3D, MIN_POINTS_3D, solve_fft3d
-from .onset_core import Dimension, LoadingRun, OnsetBase, differences, refine, step_record, with_load_steps
+from .onset_core import (
+    LOADING_STEPS,
+    Dimension,
+    LoadingRun,
+    OnsetBase,
+    differences,
+    refine,
+    step_record,
+    with_load_steps,
+)
 
 __all__ = ["solve_onset3d", "OnsetResult3D", "DEFAULT_TOL_3D", "STEP_KEYS_3D"]
 
@@ -148,7 +158,7 @@ def _differences(fine, coarse):
 
 
 def solve_onset3d(scene: Scene3D, path, tol: float = DEFAULT_TOL_3D, *,
-                  loading: str = "frictional", loading_steps: int = 10, grid_points=None,
+                  loading: str = "frictional", loading_steps: int = LOADING_STEPS, grid_points=None,
                   domain_length=None, progress=None) -> OnsetResult3D:
     """Partial slip of a sphere or paraboloid (``scene``) along the tangential loads
     Q/(mu P) = ``path`` (see the module's docstring).  grid_points: N (both axes) fixed;
