@@ -126,8 +126,9 @@ def compliance_operator(shape: tuple, lengths: tuple, mu: float, film: Film = Fi
                         slide: tuple = (1.0, 0.0)) -> FourierOperator:
     """The film's surface compliance for friction ``mu`` sliding along ``slide``, on a grid of
     ``shape`` over ``lengths`` (cached: its symbol and preconditioners are reused)."""
-    # lines: a viscoelastic film's long relaxation tails, their periodic images summed exactly
-    tails = tail_terms(shape, lengths, film.tail_poles(mu * slide[0])) if len(shape) == 1 else ()
+    # a viscoelastic film's long relaxation tails (along x): their periodic images summed
+    tails = tail_terms(shape, lengths, film.tail_poles(mu * slide[0])) \
+        if not any(slide[1:len(shape)]) else ()
     return FourierOperator(Grid(shape, lengths), film.compliance_symbol(mu, slide[:len(shape)]),
                            low_rank=tails)
 
@@ -226,15 +227,15 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
         # the sinking H p of the last matvec: GMRES's last matvec is at the x it returns, so
         # this is H p of the new pressure (the same transform of the same data: no extra pair)
         last_w = [None]
-        low = [(a, a[sel], b[sel]) for a, b in op.low_rank]  # (lines' long tails: tail_terms)
+        low = op.low_rank  # a viscoelastic film's long tails (TailTerm)
         if M == 1:  # one body (the common case): no gather by owner, no bincount
             wcell = cell * float(wload[0])
 
             def matvec(v):
                 nfft[0] += 1
                 w = last_w[0] = sparse(v[:ni], sel, S)
-                for a, _, b in low:
-                    w += a * float(b @ v[:ni])
+                for t in low:
+                    w += t.field(v[:ni], sel)
                 out = np.empty_like(v)
                 np.subtract(w[sel], v[ni], out=out[:ni])
                 out[ni] = wcell * add_reduce(v[:ni])
@@ -243,8 +244,8 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
             def matvec(v):
                 nfft[0] += 1
                 w = last_w[0] = sparse(v[:ni], sel, S)
-                for a, _, b in low:
-                    w += a * float(b @ v[:ni])
+                for t in low:
+                    w += t.field(v[:ni], sel)
                 out = np.empty_like(v)
                 out[:ni] = w[sel] - v[ni:][own]
                 out[ni:] = cell * np.bincount(own, weights=v[:ni], minlength=M) * wload
@@ -270,8 +271,8 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
                 masked(v[:ni], Hinv, zp)
                 z[ni] = v[ni]
                 masked(zp, S, wp)
-                for _, a, b in low:
-                    np.add(wp, a * float(b @ zp), out=wp)
+                for t in low:
+                    np.add(wp, t.at(zp, sel), out=wp)
                 subtract(wp, z[ni], out=wp)
                 wstep[ni] = wcell * add_reduce(zp)  # (= zp.sum())
                 return wstep
