@@ -258,7 +258,7 @@ class _Linear:
                 v[self.i_d + 1:].copy(), rel)
 
 
-def _update(sets, fields, prev_delta, u_prev, mu, gross, qdir, cautious):
+def _update(sets, fields, prev_delta, u_prev, mu, gross, qdir, cautious, load=None):
     """The next sets from the last solve: (contact, stick, t), the slip increment's
     (ds, |ds|, scale), the kept slip nodes and the directions' turn (see the module)."""
     contact, stick, t = sets
@@ -296,11 +296,21 @@ def _update(sets, fields, prev_delta, u_prev, mu, gross, qdir, cautious):
     new_t[:, entered] = qdir[:, None] if gross else np.where(
         dsn[entered] > 0, dsu[:, entered], qdir[:, None])
     if not new_stick.any() and new_contact.any():
-        # gross sliding: keep the most stuck of the old stick nodes still in contact
         cand = np.flatnonzero(stick & new_contact)
-        if not cand.size:
+        if not gross and load is not None:
+            # below gross sliding: a stick zone narrower than a cell; the node whose shear
+            # would balance the others' mu p t best (their sum with it slipping too, and the
+            # load per cell ``load``) stands for it
             cand = np.flatnonzero(new_contact)
-        j = cand[np.argmin(excess[cand] / pmax)]
+            slide = mu * np.where(new_contact, np.maximum(p, 0.0), 0.0) * new_t
+            need = load[:, None] - slide.sum(axis=1)[:, None] + slide[:, cand]
+            _, nn = _unit(need)
+            j = cand[np.argmin(nn - mu * p[cand])]
+        else:
+            # gross sliding: keep the most stuck of the old stick nodes still in contact
+            if not cand.size:
+                cand = np.flatnonzero(new_contact)
+            j = cand[np.argmin(excess[cand] / pmax)]
         new_stick[j] = True
         new_t[:, j] = 0.0
     turn = 0.0
@@ -374,7 +384,8 @@ def solve_slip_step(op: PartialSlipOperator, f: np.ndarray, prev: SlipState, P: 
         fields = (p, q, d, delta)
         gap = f - d + w
         new, (ds, slip_mag, _), turn = _update(sets, (p, q, w, u, d, delta, gap), d_prev,
-                                               u_prev, mu, gross, qdir, cautious)
+                                               u_prev, mu, gross, qdir, cautious,
+                                               Qv / op.cell)
         same = np.array_equal(new[0], sets[0]) and np.array_equal(new[1], sets[1])
         if same and turn <= dir_tol and rel <= rtol:
             result = (p, q, w, u, d, delta, gap, ds, rel)
