@@ -125,9 +125,14 @@ def part_sphere(quick: bool, out, t0) -> list[dict]:
     sph = []
     speeds = (1e-4, 0.1) if quick else (1e-4, 1e-2, 0.03, 0.1, 0.3, 1.0, 10.0, 100.0)
     L = FILM["thickness"]
+    t = time.perf_counter()
+    el = solve(indenter="sphere", force=1.0, mu=0.0, tol=1e-2, **FILM)
+    t_el = time.perf_counter() - t
     for V in speeds:
         kw = dict(indenter="sphere", force=1.0, mu=0.0, speed=V, prony=SLS, tol=1e-2, **FILM)
+        t = time.perf_counter()
         r = solve(**kw)
+        t_v = time.perf_counter() - t
         d = r.summary()
         (nx, ny), (Lx, Ly) = r.grid_points, r.domain_length
         fixed = solve(**kw, grid_points=(nx, ny), domain_length=(Lx * L, Ly * L)).summary()
@@ -147,7 +152,10 @@ def part_sphere(quick: bool, out, t0) -> list[dict]:
                     "true_error": err, "bounded": bool(err <= d["error_estimate"]) if ref else None,
                     "extent_error_estimate": ext_est, "extent_true_error": ext,
                     "extent_bounded": bool(ext <= ext_est) if ref else None,
-                    "grid_x": nx, "grid_y": ny, "fft_pairs": r.counters["transforms"]})
+                    "grid_x": nx, "grid_y": ny, "fft_pairs": r.counters["transforms"],
+                    "fft_pairs_ratio": r.counters["transforms"] / el.counters["transforms"],
+                    "grid_points_ratio": nx * ny / (el.grid_points[0] * el.grid_points[1]),
+                    "time_ratio": t_v / t_el})
         progress(len(sph), len(speeds), f"sphere V={V:g}", t0)
     table(sph, out / "viscoelastic_sphere.csv",
           "Viscoelastic sphere (F = 1 N, mu = 0, SLS E1 = E_inf, tau = 10 ms), tol 1e-2; "
