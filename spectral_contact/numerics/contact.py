@@ -90,8 +90,9 @@ def compliance_operator(shape: tuple, lengths: tuple, mu: float, film: Film = Fi
                         slide: tuple = (1.0, 0.0)) -> FourierOperator:
     """The film's surface compliance for friction ``mu`` sliding along ``slide``, on a grid of
     ``shape`` over ``lengths`` (cached: its symbol and preconditioners are reused)."""
-    # lines: a viscoelastic film's long relaxation tails, their periodic images summed exactly
-    tails = tail_terms(shape, lengths, film.tail_poles(mu * slide[0])) if len(shape) == 1 else ()
+    # a viscoelastic film's long relaxation tails (along x): their periodic images summed
+    tails = tail_terms(shape, lengths, film.tail_poles(mu * slide[0])) \
+        if not any(slide[1:len(shape)]) else ()
     return FourierOperator(Grid(shape, lengths), film.compliance_symbol(mu, slide[:len(shape)]),
                            low_rank=tails)
 
@@ -209,7 +210,7 @@ def _operators(B: _Bodies, on: _OnSet, nfft: list):
     S, cell, M, fft = B.S, B.cell, B.M, B.fft
     add_reduce = np.add.reduce
     sparse = fft.apply_sparse
-    low = [(a, a[sel], b[sel]) for a, b in B.op.low_rank]  # (lines' long tails: tail_terms)
+    low = B.op.low_rank  # a viscoelastic film's long tails (TailTerm)
     if M == 1:  # one body (the common case): no gather by owner, no bincount
         wcell = cell * float(wload[0])
 
@@ -218,8 +219,8 @@ def _operators(B: _Bodies, on: _OnSet, nfft: list):
             # the sinking H p of the last matvec: GMRES's last matvec is at the x it returns,
             # so this is H p of the new pressure (the same transform of the same data)
             w = last_w[0] = sparse(v[:ni], sel, S)
-            for a, _, b in low:
-                w += a * float(b @ v[:ni])
+            for t in low:
+                w += t.field(v[:ni], sel)
             out = np.empty_like(v)
             np.subtract(w[sel], v[ni], out=out[:ni])
             out[ni] = wcell * add_reduce(v[:ni])
@@ -228,8 +229,8 @@ def _operators(B: _Bodies, on: _OnSet, nfft: list):
         def matvec(v):
             nfft[0] += 1
             w = last_w[0] = sparse(v[:ni], sel, S)
-            for a, _, b in low:
-                w += a * float(b @ v[:ni])
+            for t in low:
+                w += t.field(v[:ni], sel)
             out = np.empty_like(v)
             out[:ni] = w[sel] - v[ni:][own]
             out[ni:] = cell * np.bincount(own, weights=v[:ni], minlength=M) * wload
@@ -255,8 +256,8 @@ def _operators(B: _Bodies, on: _OnSet, nfft: list):
         masked(v[:ni], Hinv, zp)
         z[ni] = v[ni]
         masked(zp, S, wp)
-        for _, a, b in low:
-            np.add(wp, a * float(b @ zp), out=wp)
+        for t in low:
+            np.add(wp, t.at(zp, sel), out=wp)
         subtract(wp, z[ni], out=wp)
         wstep[ni] = wcell * add_reduce(zp)  # (= zp.sum())
         return wstep
