@@ -171,19 +171,23 @@ class ContactMapPrior:
             for j in range(3):
                 kern[i, j] = np.fft.irfft2(Kn[..., i, j], s=self.shape)
         ci, cj = self.cells[:, 0], self.cells[:, 1]
+        bw = np.concatenate([b[f][ci, cj] for f in range(3)])
+        out = {"Si": Si, "Kn": Kn, "quad": quad, "logdet": ld, "kern": kern, "bw": bw}
+        self._s0[s_out] = out
+        self._gsub = {}
+        return out
+
+    def _gram(self, kern, act):
+        """M^H S0^-1 M between the active cells (3 n_a x 3 n_a), from its kernel."""
+        ci, cj = self.cells[act, 0], self.cells[act, 1]
         di = (ci[:, None] - ci[None, :]) % self.shape[0]
         dj = (cj[:, None] - cj[None, :]) % self.shape[1]
-        n = len(self.cells)
+        n = act.size
         Gc = np.empty((3 * n, 3 * n))
         for i in range(3):
             for j in range(3):
                 Gc[i * n:(i + 1) * n, j * n:(j + 1) * n] = kern[i, j][di, dj]
-        Gc = 0.5 * (Gc + Gc.T)
-        bw = np.concatenate([b[f][ci, cj] for f in range(3)])
-        out = {"Si": Si, "Kn": Kn, "quad": quad, "logdet": ld, "Gc": Gc, "bw": bw}
-        self._s0[s_out] = out
-        self._gsub = {}
-        return out
+        return 0.5 * (Gc + Gc.T)
 
     # -- the window's part -------------------------------------------------------------------
     def window(self, th):
@@ -241,7 +245,7 @@ class ContactMapPrior:
         key = (id(st), act.tobytes())
         Gc = self._gsub.get(key)
         if Gc is None:  # the active cells change only when the ellipse crosses a cell
-            Gc = st["Gc"][np.ix_(rows, rows)]
+            Gc = self._gram(st["kern"], act)
             self._gsub = {key: Gc}
         GU = (U.T @ Gc).T          # Gc U (Gc symmetric)
         G = np.asarray(U.T @ GU)
