@@ -128,11 +128,6 @@ class _Surface(Dimension):
     def predict(self, s0, s1, f, mu):
         return _predict(s0, s1, f, mu)
 
-    def rtol(self, accept):
-        # the inner (GMRES) solves to 1e-4 of the accepted residual (as solve's 3D contact):
-        # the loads then hold to ~1e-8 (equilibrium; at 1e-2 of it, 1e-7)
-        return max(1e-10, 1e-4 * accept)
-
     def measure(self, g, s, f, mu):
         """The contact's area (the polygon through the sub-grid edges, ``measure_contact_2d``,
         as ``solve`` measures it), pressure centroid and peak; the stick zone's area (its
