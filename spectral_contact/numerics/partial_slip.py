@@ -46,7 +46,13 @@ same.
 When no node would stick (|Q| = |mu| P: gross sliding) the iteration keeps the most stuck node
 of the previous stick set: the sum of q then forces q = |mu| p Q/|Q| there too, so the state is
 the steady sliding one (q = mu p everywhere) and delta stays defined (the limit of the partial
-slip states).
+slip states).  Below gross sliding (a stick zone narrower than a cell: e.g. the normal loading
+at a small |mu|, where the film's coupling makes every node slip outward) it keeps the node
+whose shear would balance the others' |mu| p t best.
+
+The accepted solve's loads are then held exactly (``balance``): uniform shifts of p on the
+contact and of q on the stick nodes, of the order of the inner residual, and one product for
+the displacements; the inner tolerance need only follow the accepted residual.
 """
 from __future__ import annotations
 
