@@ -46,9 +46,9 @@ class Dimension:
 
     def rtol(self, accept: float) -> float:
         """The inner (GMRES) tolerance of the accepted solves: 1e-2 of the accepted residual
-        (the loads are then held exactly by ``solve_slip_step``'s balance; it was 1e-10 for
-        lines and 1e-4 of it for surfaces, for equilibrium to 1e-8 through the solve: 12 %
-        (lines) to 15 % (surfaces) more FFT pairs, the measures the same to ~1e-5 of tol)."""
+        (the loads are held exactly by ``solve_slip_step``'s balance; it was 1e-10, for
+        equilibrium to 1e-8 through GMRES: 12 % more FFT pairs on the paper's line, the
+        measures the same to ~1e-5 of tol).  Surfaces keep 1e-4 of it (``onset3d``)."""
         return max(1e-10, 1e-2 * accept)
 
 
