@@ -284,13 +284,43 @@ def test_slow_sliding_first_order_theory(sign):
 
 
 def test_sphere_period_too_short_for_the_tail_is_refused():
-    """3D: a user period that holds the contact and the elastic decay but not the relaxation
-    tail behind the contact (V tau_r = 10 h here) is refused in one message naming the tail."""
-    kw = dict(indenter="sphere", force=1.0, mu=0.0, speed=1.0, prony=SLS, tol=1e-2)
+    """3D: a user period that holds the contact and the elastic decay but not a relaxation
+    tail shorter than 2.7 h (V tau_r = 1 h here, held by the period) is refused in one message
+    naming the tail; a longer tail (10 h) has its images summed (tail_terms): the same period
+    is accepted."""
+    kw = dict(indenter="sphere", force=1.0, mu=0.0, prony=SLS, tol=1e-2)
     with pytest.raises(InputError, match="relaxation tail"):
-        solve(**kw, domain_length=(0.08, 0.04))  # 40 h x 20 h (elastic need ~10 h)
-    # the same period is fine for the elastic film
-    solve(indenter="sphere", force=1.0, mu=0.0, tol=1e-2, domain_length=(0.08, 0.04))
+        solve(**kw, speed=0.1, domain_length=(0.032, 0.04))  # 16 h x 20 h (elastic need ~13 h)
+    # the same period is fine for the elastic film, and for the summed tail
+    solve(indenter="sphere", force=1.0, mu=0.0, tol=1e-2, domain_length=(0.032, 0.04))
+    solve(**kw, speed=1.0, domain_length=(0.032, 0.04))
+
+
+@pytest.mark.parametrize("mu", [0.0, 0.5])
+def test_sphere_tail_images_summed(mu, monkeypatch):
+    """3D, V tau_r = 10 h: the fixed grid on a 16 h period and on twice it along x (same
+    cells) agree to 1e-5 on the radius, centroid, d and p_max (the tail's images summed,
+    along x rank one, along y a convolution: numerics.operators.tail_terms); the periodic row
+    without the sum differs by more than 1e-3."""
+    import spectral_contact.numerics.contact as contact
+
+    kw = dict(indenter="sphere", force=1.0, mu=mu, prony=SLS, speed=1.0, tol=1e-2)
+
+    def change():
+        contact.compliance_operator.cache_clear()
+        a, b = (solve(**kw, grid_points=(64 * f, 64), domain_length=(0.032 * f, 0.032)).summary()
+                for f in (1, 2))
+        rad = b["contact_radius_m"]
+        return max(abs(a[k] - b[k]) / (abs(b[k]) if k in ("indentation_m", "max_pressure_Pa")
+                                        else rad)
+                   for k in ("contact_radius_m", "pressure_centroid_x_m", "indentation_m",
+                             "max_pressure_Pa"))
+
+    assert change() < 1e-5
+    monkeypatch.setattr(contact, "tail_terms", lambda *args: ())  # the plain periodic row
+    assert change() > 1e-3
+    monkeypatch.undo()
+    contact.compliance_operator.cache_clear()
 
 
 @pytest.mark.parametrize("speed,mu", [(50.0, 2.0), (50.0, 0.0), (-50.0, -1.0), (2.0, 2.0)])

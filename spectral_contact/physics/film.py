@@ -178,11 +178,6 @@ class Film:
         decay at ``decay_rate``)."""
         return []
 
-    def on_grid(self, lengths) -> Film:
-        """This film on a periodic grid of periods ``lengths`` [h] (a kind whose k_x = 0 modes
-        stand for a band: ``ViscoelasticFilm.kx_cell``); the same film by default."""
-        return self
-
     def _F0_F1(self, kmag):
         """F0, F1 at K = |k| h (the incompressible ones at nu = 1/2, bit for bit)."""
         F0, F1, *_ = self.transfer(kmag * self.thickness)

@@ -44,6 +44,7 @@ from ..numerics.fft import get_rfft
 from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.measure2d import measure_contact_2d
 from ..numerics.open_domain import box_of, open_grid
+from ..numerics.operators import tail_terms
 from ..physics.film import Film
 from ..physics.scene import Scene3D, check_positive
 from ..result import ContactResult3D
@@ -159,11 +160,12 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
         module, which the command line shows on a terminal once a command passes 2 s).
     """
     # issue 14: any nu (nu = 1/2: the incompressible path); issue 23: a viscoelastic film in
-    # steady sliding (its relaxation tail lengthens the period along x only).  The locator's
+    # steady sliding (its relaxation tail lengthens the period along x only, up to 2.7 h:
+    # longer tails have their images summed, numerics.operators.tail_terms).  The locator's
     # inner solves are looser on every path (adaptive=True: its contact only sizes the period
     # and the grid).
     prob = Problem(scene, model, tol, adaptive=True,
-                   progress=logging.getLogger(__name__).info if progress is None else progress)
+                   progress=logging.getLogger(__name__) if progress is None else progress)
     grid_points, domain_length = _check_fixed(grid_points, domain_length)
     # the inner (GMRES) solves to 1e-4 of the accepted residual (issue 25: 1e-10 before; one
     # to two GMRES iterations per active-set step for digits no measure keeps; 1e-3 left the
@@ -186,6 +188,8 @@ class _SurfaceSolve:
         # a user grid on a user period (issue 25): no locator, whose contact would only be
         # checked against the period (~4-6 FFT-pair times of 512^2); the first level's is
         self.fixed_box = bool(grid_points) and domain_length is not None
+        if prob.visco:  # the long relaxation tails' images are summed exactly (tail_terms)
+            prob.margin = prob.film.domain_margin(prob.tol, tails_corrected=True)
 
     def unloaded(self) -> ContactResult3D:
         """P = 0: no contact, zero fields."""
@@ -225,12 +229,10 @@ class _SurfaceSolve:
 
     def contact(self, grid, p_init=None, locator=False):
         prob, film = self.prob, self.prob.film
-        if prob.visco:  # the k_x = 0 modes: R averaged over their band (Film.on_grid)
-            if p_init is None:  # the indenter's own guess, not the nested start: its coarse
-                # grids on the tail's long period hold the contact on a node or two (measured:
-                # the sphere at V = 10 m/s, tau 10 ms failed on the load residual, 5 %)
-                p_init = np.broadcast_to(self.ind.initial_pressure(grid), grid.shape).copy()
-            film = film.on_grid(grid.lengths)
+        if prob.visco and p_init is None:  # the indenter's own guess, not the nested
+            # start: its coarse grids on a long period held the contact on a node or two
+            # (measured: the sphere at V = 10 m/s, tau 10 ms failed on the load residual, 5 %)
+            p_init = np.broadcast_to(self.ind.initial_pressure(grid), grid.shape).copy()
         return prob.count(prob.solve_contact(grid, [self.ind], film, p_init, locator))
 
     def locator_grid(self):
@@ -354,12 +356,14 @@ class _SurfaceSolve:
     def fields(self, sol, p, shear):
         """The final grid's base tractions and surface displacements (FFT pairs counted)."""
         prob, scene, film = self.prob, self.scene, self.prob.film
-        if prob.visco:  # the final grid's film (its k_x = 0 band): the Film's own output fields
-            film = film.on_grid(sol.grid.lengths)
+        if prob.visco:  # the Film's own output fields; the sinking with the long tails'
+            # images summed as in the contact (numerics.operators.tail_terms; u_x, u_y: not)
             fft = get_rfft(sol.grid.shape)
             shear_ = (shear, np.zeros_like(p))
             szz, (sxz, syz) = film.base_stresses(fft, sol.grid, -p, shear_)
             (ux, uy), delta = film.surface_displacements(fft, sol.grid, p, shear_)
+            for t in tail_terms(sol.grid.shape, sol.grid.lengths, film.tail_poles(scene.mu)):
+                delta = delta + t.field(p.ravel(), slice(None)).reshape(p.shape)
             prob.counters["transforms"] += 5
             return szz, sxz, syz, ux, uy, delta
         # (a law with q = mu p exactly, e.g. power with n = 0: the Amontons fields, bit for bit)
