@@ -46,7 +46,13 @@ same.
 When no node would stick (|Q| = |mu| P: gross sliding) the iteration keeps the most stuck node
 of the previous stick set: the sum of q then forces q = |mu| p Q/|Q| there too, so the state is
 the steady sliding one (q = mu p everywhere) and delta stays defined (the limit of the partial
-slip states).
+slip states).  Below gross sliding (a stick zone narrower than a cell: e.g. the normal loading
+at a small |mu|, where the film's coupling makes every node slip outward) it keeps the node
+whose shear would balance the others' |mu| p t best.
+
+The accepted solve's loads are then held exactly (``balance``): uniform shifts of p on the
+contact and of q on the stick nodes, of the order of the inner residual, and one product for
+the displacements; the inner tolerance need only follow the accepted residual.
 """
 from __future__ import annotations
 
@@ -345,7 +351,7 @@ def solve_slip_step(op: PartialSlipOperator, f: np.ndarray, prev: SlipState, P: 
                     mu: float, *, guess: SlipState | None = None, rtol: float = 1e-10,
                     search_rtol: float | None = _SEARCH_RTOL, accept: float = 1e-8,
                     max_outer: int = 200, max_krylov: int = 2000,
-                    dir_tol: float | None = None, entry=None) -> SlipState:
+                    dir_tol: float | None = None, entry=None, balance: bool = True) -> SlipState:
     """One quasi-static load step from the state ``prev`` to the loads (P, Q) (dimensionless:
     forces in the core's units; Q a number on a line, (Q_x, Q_y) on a surface; ``f`` the
     indenter's heights above its apex, flat), Coulomb friction coefficient |mu|.
@@ -360,6 +366,9 @@ def solve_slip_step(op: PartialSlipOperator, f: np.ndarray, prev: SlipState, P: 
             step before it touched, should it come into contact (``entry_motion``); it is not
             slip: a node entering contact sticks or slips from where it touched (None: from
             where it was at the previous step).
+    balance : hold the loads exactly on the accepted solve (uniform shifts of p on the
+            contact and of q on the stick nodes, of the order of the inner residual, and one
+            product for the new displacements): equilibrium to round-off whatever ``rtol``.
     Returns the new state (its ``slip``: the accumulated slip delta - u relative to where each
     node was when it came into contact, 0 off the contact).  ConvergenceError if the sets do
     not settle or the final residual exceeds ``accept``.
@@ -424,8 +433,36 @@ def solve_slip_step(op: PartialSlipOperator, f: np.ndarray, prev: SlipState, P: 
     if result is None:
         raise ConvergenceError(f"partial slip: the stick-slip sets did not settle in {max_outer} "
                                f"iterations (P = {P:.4g}, Q = {Q})", iterations=max_outer)
+    if balance:
+        result = _balance(op, f, sets, result, P, Qv, mu, u_prev, d_prev)
+        counters["fft"] += op.m
     return _finish(op, prev, sets, result, P, Qv, mu, gross, qdir, accept, marginal, cycles,
                    outer, counters)
+
+
+def _balance(op, f, sets, result, P, Qv, mu, u_prev, d_prev):
+    """The accepted solve with the loads held exactly: p shifted uniformly on the contact
+    (and q = |mu| p t with it on the slip nodes), then q shifted uniformly on the stick nodes,
+    the surface's (w, u) of the new tractions (one product).  The shifts are of the order of
+    the inner solve's residual (the load rows are in its system), far below ``accept``: the
+    inner tolerance can follow ``accept`` while equilibrium holds to round-off."""
+    contact, stick, t = sets
+    p, q, w, u, d, delta, gap, ds, rel = result
+    cell = op.grid.cell
+    C, S = np.flatnonzero(contact), np.flatnonzero(stick)
+    L = np.flatnonzero(contact & ~stick)
+    p = p.copy()
+    q = q.copy()
+    dp = (P - cell * p.sum()) / (cell * C.size)
+    p[C] += dp
+    q[:, L] += mu * dp * t[:, L]
+    if S.size:
+        q[:, S] += ((Qv - cell * q.sum(axis=1)) / (cell * S.size))[:, None]
+    w, uu = op.apply(p, q)
+    u = np.reshape(uu, q.shape)
+    gap = f - d + w
+    ds = (delta - d_prev)[:, None] - (u - u_prev)
+    return p, q, w, u, d, delta, gap, ds, rel
 
 
 def _finish(op, prev, sets, result, P, Qv, mu, gross, qdir, accept, marginal, cycles, outer,

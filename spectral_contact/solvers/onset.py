@@ -175,10 +175,9 @@ def _predict(s0: SlipState, s1: SlipState) -> SlipState | None:
 
 class _Line(Dimension):
     """The line's part of the loading (``onset_core``): the cylinder's heights x^2, Q a
-    number, the predicted intervals of ``_predict`` (also across a reversal), the sub-grid
-    edges of ``fit_edges`` and ``_stick_edges``."""
+    number, the predicted intervals of ``_predict`` (the loading's steps too, and across a
+    reversal), the sub-grid edges of ``fit_edges`` and ``_stick_edges``."""
 
-    predict_loading = False
     predict_reversals = True
     unloaded = staticmethod(SlipState.unloaded)
 
