@@ -233,8 +233,8 @@ def _level_sizes(L, a, tol, grid_points, domain_length, edge_scales=()):
     """The grid sizes of the refinement levels on the period L (in h).  ``edge_scales``
     (viscoelastic film: (|V| tau_i, E_i/E_inf) per Prony term): a term whose edge structure
     moves the contact by more than VISCO_EDGE_SHARE tol (weight x width / a) has its width
-    resolved by VISCO_EDGE_CELLS cells from the first level on, so that two levels which both miss it
-    cannot agree by chance."""
+    spanned by VISCO_EDGE_CELLS cells on the second level (half that on the first), so that
+    two levels which both miss it cannot agree by chance."""
     if grid_points:
         return [grid_points // 2, grid_points]
     across = max(_FIRST_ACROSS, _EDGE_ERROR / tol)
