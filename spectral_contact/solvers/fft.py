@@ -3,7 +3,9 @@
 1. A coarse solve on a generous domain locates the contact (half-width a, centre x_c).
 2. The period is set to L = 2a + ln(100/tol)/kappa (+ a small guard), with kappa = 0.739/h the
    slowest decay rate of the film's kernels, so periodic images perturb the solution by
-   ~tol/100 (times an amplitude of order 1: measured up to ~1.3 at mu = 10).
+   ~tol/100 (times an amplitude of order 1: measured up to ~1.3 at mu = 10).  A viscoelastic
+   film adds its relaxation tails shorter than 2.7 h (V tau_r ln(100 A/tol)); the longer
+   ones' images are summed exactly by the operator (numerics.operators.tail_terms).
 3. The grid is doubled (N = 2^m, same period, nested nodes, each level started from the previous
    solution) until the estimate from the levels' differences (_discretisation_error) is below
    ``tol``, from the third level on.
@@ -233,8 +235,8 @@ def _level_sizes(L, a, tol, grid_points, domain_length, edge_scales=()):
     """The grid sizes of the refinement levels on the period L (in h).  ``edge_scales``
     (viscoelastic film: (|V| tau_i, E_i/E_inf) per Prony term): a term whose edge structure
     moves the contact by more than VISCO_EDGE_SHARE tol (weight x width / a) has its width
-    resolved by VISCO_EDGE_CELLS cells from the first level on, so that two levels which both miss it
-    cannot agree by chance."""
+    spanned by VISCO_EDGE_CELLS cells on the second level (half that on the first), so that
+    two levels which both miss it cannot agree by chance."""
     if grid_points:
         return [grid_points // 2, grid_points]
     across = max(_FIRST_ACROSS, _EDGE_ERROR / tol)
