@@ -170,10 +170,13 @@ class Film:
         """(width [h], weight) of each edge structure the grid must resolve ([]: none)."""
         return []
 
-    def on_grid(self, lengths) -> Film:
-        """This film on a periodic grid of periods ``lengths`` [h] (a kind whose k_x = 0 modes
-        stand for a band: ``ViscoelasticFilm.kx_cell``); the same film by default."""
-        return self
+    def tail_poles(self, mu: float = 0.0) -> list[tuple[float, float]]:
+        """(l, B) of each long one-sided exponential tail of the line compliance kernel,
+        K(s) = B exp(s/l)/|l| for s/l < 0 (s = x - x'), whose periodic images a line grid
+        sums exactly as a rank-one term (``numerics.operators.tail_terms``) instead of a
+        period of several l (Amontons friction ``mu``).  [] for an elastic film (its kernels
+        decay at ``decay_rate``)."""
+        return []
 
     def _F0_F1(self, kmag):
         """F0, F1 at K = |k| h (the incompressible ones at nu = 1/2, bit for bit)."""

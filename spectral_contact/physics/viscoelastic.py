@@ -49,13 +49,14 @@ moduli in any one unit (``relaxed_young`` and the Prony moduli together).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import InputError
 from .film import Film
 from .options import check_prony
+from .transfer import transfer_functions
 
 __all__ = ["ViscoelasticFilm", "film_of", "parse_prony", "check_prony"]
 
@@ -82,25 +83,21 @@ class ViscoelasticFilm(Film):
     speed : float
         V [thickness units / s], signed: > 0 the indenter slides toward +x.
 
-    kx_cell : float
-        pi / L_x for a periodic grid of period L_x along x (0: none).  The modes k_x = 0 of a
-        periodic grid stand for the band |k_x| < pi/L_x of the isolated contact's spectrum,
-        across which R varies on the scale 1/(|V| tau_r): they take R averaged over the band
-        (exactly, from the partial fractions R = r + sum c_j / (1 - i k_x V tau_r,j):
-        r + sum c_j arctan(kappa l_j)/(kappa l_j)) instead of R(0) = 1.  On a surface (3D) the
-        k_x = 0, k_y != 0 modes carry the x-averaged load of the periodic row of images, which a
-        sliding material point sees as a static load: sampled at R(0) it is relaxed however fast
-        the sliding (measured: the sphere at V tau_r = 1e6 h came out 1.3 % wider than the
-        glassy elastic one).  In plane strain H(0) = 0 and it changes nothing.
-
     ``speed == 0`` or no terms: the symbols are those of the elastic film of modulus E_inf
     (R = 1 exactly; the solvers then use ``Film`` itself, bit for bit).
+
+    Periodic grids sample the symbols as they are (R(0) = 1 at k_x = 0: the periodic row of
+    contacts).  Its images along x are those of the isolated contact once the period holds the
+    relaxation tails (``domain_margin``) or once their images are summed (``tail_poles``: the
+    tails longer than 2.7 h, lines and surfaces).  (Replaced: a band average of R over |k_x| <
+    pi/L_x on the k_x = 0 modes of surfaces, which stood in for the tails' images beyond a
+    period shorter than them but moved the sphere by ~1e-3 at V tau_r = 1-3 h, where the
+    period held the tail: the period effect beyond the estimate in studies/README.)
     """
 
     relaxed_young: float = 1.0
     prony: tuple = ()
     speed: float = 0.0
-    kx_cell: float = 0.0
 
     def __post_init__(self):
         super().__post_init__()
@@ -182,10 +179,6 @@ class ViscoelasticFilm(Film):
         """Whether the symbols differ from the elastic film's (V != 0 and terms present)."""
         return self.speed != 0.0 and bool(self.prony)
 
-    def on_grid(self, lengths) -> ViscoelasticFilm:
-        """The film on a periodic grid: its k_x = 0 modes averaged over |k_x| < pi / L_x."""
-        return replace(self, kx_cell=math.pi / lengths[0])
-
     def partial_fractions(self) -> tuple[float, list[tuple[float, float]]]:
         """R(z) = G_inf/G*(z/i) = r + sum_j c_j / (1 + z tau_r,j): (r, [(c_j, tau_r,j)]), r =
         E_inf/E_0, c_j = tau_r,j / (d/dz G*/G_inf at z = -1/tau_r,j), sum c_j = 1 - r."""
@@ -197,17 +190,11 @@ class ViscoelasticFilm(Film):
         return self.relaxed_young / self.glassy_young, out
 
     def modulus_ratio(self, direction, kmag):
-        """R(k) = G_inf / G*(-k_x V) (1 where V = 0); at k_x = 0 its average over |k_x| <
-        kx_cell when kx_cell > 0."""
+        """R(k) = G_inf / G*(-k_x V) (1 where V = 0)."""
         kx = np.asarray(kmag, dtype=float) * direction[0]
         if not self.moving:
             return np.ones_like(kx, dtype=complex)
-        R = (self.relaxed_young / 3.0) / self.complex_modulus(-kx * self.speed)
-        if self.kx_cell > 0.0:
-            r, terms = self.partial_fractions()
-            band = r + sum(c * _atan_ratio(self.kx_cell * abs(self.speed) * tr) for c, tr in terms)
-            R = np.where(kx == 0.0, band, R)
-        return R
+        return (self.relaxed_young / 3.0) / self.complex_modulus(-kx * self.speed)
 
     def surface_compliance(self, direction, kmag, mu: float = 0.0, slide=(1.0, 0.0)):
         """The elastic film's H times R(k) (in units of 1/G_inf)."""
@@ -236,10 +223,48 @@ class ViscoelasticFilm(Film):
         behind the contact (0 when not moving)."""
         return abs(self.speed) * max(self.retardation_times()) if self.moving else 0.0
 
-    def tail_amplitude(self) -> float:
+    def tail_poles(self, mu: float = 0.0) -> list[tuple[float, object]]:
+        """(l_j, B_j) of the relaxation tails that the FFT solvers sum exactly: l_j = V tau_r,j
+        (signed like V) with |l_j| >= ``TAIL_CORRECTED`` / ``decay_rate``, and B_j(k_y) = c_j
+        H(-i/l_j, k_y) (a function of k_y [1/length], array in, array out; lines: k_y = 0),
+        H the elastic symbol continued to k_x = -i/l (``partial_fractions``: R = r + sum c_j /
+        (1 - i k_x l_j)).
+
+        The kernel of c_j H(k)/(1 - i k_x l_j) has, besides the elastic film's poles, one at
+        k_x = -i/l_j: K_j(s_x, .) = exp(s_x/l_j)/|l_j| F_y^-1[B_j](.) for s_x/l_j < 0 (behind
+        the load) plus terms that decay at the elastic rate (checked against a 2^22-point line
+        kernel at l = 10 h and 100 h, mu 0 and 2: 1e-4 relative, the reference's own noise).
+        With y = h/l, K_y = k_y h, kappa^2 = K_y^2 - y^2 (H = [F0(K) + i mu (k_x/|k|) F1(K)] /
+        (2|k|) is a function of kappa^2 and k_x; F1 = 2K^2/D):
+
+            B = c h [F0(kappa)/(2 kappa) + mu y / D(kappa)],   D = cosh 2kappa + 1 + 2kappa^2,
+
+        with kappa = i t, t^2 = y^2 - K_y^2 > 0: F0/(2 kappa) = (sin 2t - 2t)/(2t D), D = cos 2t +
+        1 - 2t^2.  Lines (K_y = 0): B = c h [(sin 2y - 2y)/(2y) + mu y]/(cos 2y + 1 - 2y^2),
+        -y^2 h/3 + mu y h/2 for y -> 0: a long line tail weighs ~ (h/l)^2 without friction,
+        ~ mu h/l with it; on a surface B(k_y) -> c H(k_y) for k_y >> 1/l: the tail of a
+        contact of width w << l carries its elastic sinking, not (h/l)^2 of it.  (Amontons
+        friction along x only: a Prony film takes no other law.)  Terms with |l| <
+        TAIL_CORRECTED / decay_rate decay within a few elastic decay lengths (their pole is
+        near D's zero at y = 0.739, where B diverges and the elastic poles' residues with
+        it): they stay in ``domain_margin``."""
+        if not self.moving:
+            return []
+        _, terms = self.partial_fractions()
+        h = self.thickness
+        out = []
+        for c, tr in terms:
+            length = self.speed * tr
+            if abs(length) * self.decay_rate < TAIL_CORRECTED:
+                continue
+            out.append((length, _tail_symbol(c, h, h / length, mu)))
+        return out
+
+    def tail_amplitude(self, length: float | None = None) -> float:
         """Relative amplitude of the relaxation tail behind the contact: c min(1, (2h/l)^2), c =
-        1 - E_inf/E_0 the relaxing part's weight, l = ``tail_length``.  A tail much longer than
-        the film is thick carries the elastic sinking smeared over l, whose first two moments
+        1 - E_inf/E_0 the relaxing part's weight, l = ``length`` (default ``tail_length``).  A
+        tail much longer than the film is thick carries the elastic sinking smeared over l,
+        whose first two moments
         vanish on an incompressible film (H ~ k^2/3 at small k): its amplitude falls as
         (h/l)^2 (for l >> h, the tail's residue H(-i/l)/l ~ 1/(3 l^3) over the contact's
         1/l).  Used for the period's margin only; the images' effect is then measured
@@ -247,22 +272,31 @@ class ViscoelasticFilm(Film):
         if not self.moving:
             return 0.0
         c = 1.0 - self.relaxed_young / self.glassy_young
-        return c * min(1.0, (2.0 * self.thickness / self.tail_length) ** 2)
+        return c * min(1.0, (2.0 * self.thickness / (length or self.tail_length)) ** 2)
 
-    def domain_margin(self, tol: float) -> float:
-        """The elastic margin plus the tail's: tail_length ln(100 A/tol), A =
-        ``tail_amplitude`` (the two decays add, the tail being the elastic sinking smeared
-        behind the load over tail_length).  Lines measure the images (``solvers.fft``).
-        (Tried and reverted: a shorter line margin, ln(A/tol), with the images measured on twice
-        the period: the paper's scene (mu 2) at 10 m/s then kept changing by 6.4e-4 > tol/4 at
-        tol 1e-3 over three doublings, and 1-3 m/s took 4-7 times the elastic solve instead of
-        0.7-1.6; for surfaces a 20 times larger amplitude: the sphere's changes on twice the
-        period did not fall with it (0.3 m/s: 1.7e-3 -> 9.7e-4, 1 m/s: 5.2e-4 -> 7.8e-4), so
-        they are not the tail's images alone; studies/README, viscoelastic.)"""
+    def domain_margin(self, tol: float, tails_corrected: bool = False) -> float:
+        """The elastic margin plus the tail's: l ln(100 A/tol), A = ``tail_amplitude(l)`` (the
+        two decays add, the tail being the elastic sinking smeared behind the load over l),
+        l = ``tail_length``; ``tails_corrected`` (lines: the tails of ``tail_poles`` have their
+        images summed exactly by the solver): l the longest retardation length left, < 2.7 h,
+        or the elastic margin alone.  The images are then measured (``solvers.fft``).
+        (Tried and reverted before the exact sum: a shorter line margin, ln(A/tol), with the
+        images measured on twice the period: the paper's scene (mu 2) at 10 m/s kept changing
+        by 6.4e-4 > tol/4 at tol 1e-3 over three doublings: the images of a tail l >> L fall
+        only as l/L, not exponentially (``numerics.operators.tail_terms``).  For surfaces a 20
+        times larger amplitude: the sphere's changes on twice the period did not fall with it
+        (0.3 m/s: 1.7e-3 -> 9.7e-4, 1 m/s: 5.2e-4 -> 7.8e-4), so they are not the tail's
+        images alone; studies/README, viscoelastic.)"""
         m = super().domain_margin(tol)
         if not self.moving:
             return m
-        return m + self.tail_length * max(math.log(100.0 * self.tail_amplitude() / tol), 0.0)
+        tail = self.tail_length
+        if tails_corrected:  # the line solver sums the long tails' images (``tail_poles``)
+            tail = max([abs(self.speed) * t for t in self.retardation_times()
+                        if abs(self.speed) * t * self.decay_rate < TAIL_CORRECTED], default=0.0)
+            if tail == 0.0:
+                return m
+        return m + tail * max(math.log(100.0 * self.tail_amplitude(tail) / tol), 0.0)
 
     def edge_scales(self) -> list[tuple[float, float]]:
         """(|V| tau_i, E_i/E_inf) per term: the widths of the edge structure each term makes
@@ -302,9 +336,30 @@ class ViscoelasticFilm(Film):
         return 2.0 * abs(self.slow_shift) * self.tail_length / (s * s)
 
 
-def _atan_ratio(t: float) -> float:
-    """arctan(t)/t (1 at t = 0)."""
-    return math.atan(t) / t if t > 1e-8 else 1.0 - t * t / 3.0
+TAIL_CORRECTED = 2.0
+"""|l| x decay_rate from which a relaxation tail's periodic images are summed exactly on line
+grids (``ViscoelasticFilm.tail_poles``): l >= 2.7 h on the incompressible film."""
+
+
+def _tail_symbol(c: float, h: float, y: float, mu: float):
+    """k_y -> c H(-i y/h, k_y) (``ViscoelasticFilm.tail_poles``), |y| < 0.37."""
+    def coefficient(ky):
+        K2 = (np.asarray(ky, dtype=float) * h) ** 2 - y * y  # kappa^2
+        out = np.empty(K2.shape)
+        im = K2 < 0.0
+        t = np.sqrt(-K2[im])
+        D = np.cos(2.0 * t) + 1.0 - 2.0 * t * t
+        tt = np.maximum(t, 1e-300)
+        g0 = np.where(t > 1e-4, (np.sin(2.0 * tt) - 2.0 * tt) / (2.0 * tt * D), -t * t / (3.0 * D))
+        out[im] = g0 + mu * y / D
+        K = np.sqrt(K2[~im])
+        F0, F1, *_ = transfer_functions(K)
+        Ks = np.maximum(K, 1e-300)
+        # F0/(2K) (-> K^2/3 at 0) and 1/D = F1/(2K^2) (-> 1/2)
+        out[~im] = (np.where(K > 1e-4, F0 / (2.0 * Ks), K * K / 3.0)
+                    + mu * y * np.where(K > 1e-4, F1 / (2.0 * Ks * Ks), 0.5))
+        return c * h * out
+    return coefficient
 
 
 def film_of(scene) -> Film:

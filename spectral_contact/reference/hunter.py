@@ -50,6 +50,18 @@ the leading edge, and the x-space collocation within its O(dx) error.
 
 mu_def.  Int p df/dx / P with f = x^2/(2R) is x_bar / R: in the package's core units (lengths
 in h) mu_def = (h/R) x_bar.
+
+Where it applies to a bonded film of thickness h.  Hunter's half-space is the film's limit when
+both the contact and the relaxation tail are thin compared with the film: a << h AND l_r =
+V tau_r << h.  The film's kernel differs from the half-space's by a smooth part, constant +
+O(s^2/h^2) at distances s << h: the constant goes into d, the rest changes a by O((a/h)^2) and,
+through the tail's memory over l_r, the offset and mu_def by O((l_r/h)^2).  Measured
+(studies/README, viscoelastic; tests/test_hunter.py), film against this closed form at a_H/h
+= 0.01, 0.003, 0.001 with l_r = 14 a_H (the same a and l_r on thicker films): mu_def off by
+1.1e-2, 9.0e-4, 2.4e-5 at l_r/h = 0.14, 0.042, 0.014 (0.56, 0.51, 0.12 (l_r/h)^2): the film
+converges to Hunter as h grows.  So Hunter holds within 0.5 % on a, x_c and mu_def for a/h <=
+0.01 and l_r <= ~0.1 h (0.5 % interpolated at l_r = 0.096 h), within 1e-3 for l_r <= 0.04 h;
+beyond, the difference is the film's finite thickness, not Hunter's regime.
 """
 from __future__ import annotations
 

@@ -3,7 +3,9 @@
 1. A coarse solve on a generous domain locates the contact (half-width a, centre x_c).
 2. The period is set to L = 2a + ln(100/tol)/kappa (+ a small guard), with kappa = 0.739/h the
    slowest decay rate of the film's kernels, so periodic images perturb the solution by
-   ~tol/100 (times an amplitude of order 1: measured up to ~1.3 at mu = 10).
+   ~tol/100 (times an amplitude of order 1: measured up to ~1.3 at mu = 10).  A viscoelastic
+   film adds its relaxation tails shorter than 2.7 h (V tau_r ln(100 A/tol)); the longer
+   ones' images are summed exactly by the operator (numerics.operators.tail_terms).
 3. The grid is doubled (N = 2^m, same period, nested nodes, each level started from the previous
    solution) until the estimate from the levels' differences (_discretisation_error) is below
    ``tol``, from the third level on.
@@ -41,7 +43,7 @@ from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.interface import solve_exponential_contact
 from ..physics.scene import Scene
 from ..result import ContactResult
-from .fft_driver import Problem, run
+from .fft_driver import VISCO_EDGE_CELLS, VISCO_EDGE_SHARE, Level, Problem, refine, run
 from .visco_slow import slow_sliding
 
 __all__ = ["solve_fft", "MIN_POINTS", "MAX_POINTS"]
@@ -61,18 +63,6 @@ _SHIFT_RESIDUAL = 0.25  # averaged phase error <= this fraction of the shift dif
 # Measured amplitude (against tol 1e-5 solves, L - 2a = 6 ... 12 h): 0.5-0.6 at mu 0, 0.6-1.0 at
 # mu 2, 1.5 at mu 10; bounded by _IMAGE_AMPLITUDE * max(1, |mu|/10)
 _IMAGE_AMPLITUDE = 2.0
-_VISCO_EDGE_CELLS = 4  # viscoelastic film: cells across the edge structure |V| tau_i (_level_sizes)
-_VISCO_EDGE_SHARE = 0.25  # an unresolved term moves x_c and a by up to ~0.6 E_i/E_inf |V| tau_i
-# (measured, SLS E_1 = E_inf, paper's scene, V tau/h = 1.5e-3: x_c moved by 6e-4 a from 1024
-# to 131072 points, converging only once |V| tau spans ~4 cells); terms above this share of
-# tol are resolved, the others' weight x width / a is added to the error estimate
-
-
-def _unresolved_edges(edge_scales, a, dx):
-    """Bound of the error left by the Prony terms whose edge structure |V| tau_i spans fewer
-    than _VISCO_EDGE_CELLS cells: sum of E_i/E_inf |V| tau_i / a (see _VISCO_EDGE_SHARE)."""
-    return sum(weight * width / a for width, weight in edge_scales
-               if width < _VISCO_EDGE_CELLS * dx)
 # the locator's inner solves (plain Amontons contact): its a and x_c are only good to ~dx anyway
 # (fft_driver.LOCATOR_*: measured fewer GMRES iterations, no more active-set steps over P
 # 0.09-1773, mu 0-10)
@@ -235,7 +225,6 @@ _SOFT_PREVIOUS = 1.0  # compliant interface: the previous level difference count
 
 
 _DOMAIN_ATTEMPTS = 3
-_STAGNATION_DOUBLINGS = 3
 _MU_IMAGES_MEASURED = 10.0  # |mu| up to which _IMAGE_AMPLITUDE was measured
 # and the half-width [h]: amplitude <= 2 up to a = 16 h (mu 10, L - 2a ~ 14 h), but ~300 at
 # a = 22 h, mu = 10 (the centre 1 % off at tol 1e-2): wider contacts measure their images
@@ -245,16 +234,16 @@ _A_IMAGES_MEASURED = 8.0
 def _level_sizes(L, a, tol, grid_points, domain_length, edge_scales=()):
     """The grid sizes of the refinement levels on the period L (in h).  ``edge_scales``
     (viscoelastic film: (|V| tau_i, E_i/E_inf) per Prony term): a term whose edge structure
-    moves the contact by more than tol/10 (weight x width / a) has its width resolved by
-    _VISCO_EDGE_CELLS cells from the first level on, so that two levels which both miss it
-    cannot agree by chance."""
+    moves the contact by more than VISCO_EDGE_SHARE tol (weight x width / a) has its width
+    spanned by VISCO_EDGE_CELLS cells on the second level (half that on the first), so that
+    two levels which both miss it cannot agree by chance."""
     if grid_points:
         return [grid_points // 2, grid_points]
     across = max(_FIRST_ACROSS, _EDGE_ERROR / tol)
     n1 = pow2_at_least(L / (2 * a / across), MIN_POINTS)
     for width, weight in edge_scales:
-        if weight * width / a > _VISCO_EDGE_SHARE * tol:
-            n1 = max(n1, pow2_at_least(_VISCO_EDGE_CELLS * L / width, MIN_POINTS))
+        if weight * width / a > VISCO_EDGE_SHARE * tol:
+            n1 = max(n1, pow2_at_least(VISCO_EDGE_CELLS * L / width, MIN_POINTS))
     if n1 > MAX_POINTS and domain_length is not None:
         raise InputError(
             f"domain_length {domain_length:.4g} h needs ~{n1:.1e} grid points to resolve "
@@ -283,7 +272,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         log, as the surfaces' ``solve_fft3d``).
     """
     prob = Problem(scene, model, tol, adaptive=not grid_points,
-                   progress=_log.info if progress is None else progress)
+                   progress=_log if progress is None else progress)
     if prob.visco and grid_points is None and domain_length is None:
         # slow sliding: the relaxed elastic solve + the first-order correction (visco_slow)
         slow = slow_sliding(scene, prob.film, model, tol, solve_fft)
@@ -307,7 +296,11 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
 
 
 class _LineSolve:
-    """The line's steps of the one driver (``fft_driver.run``; module docstring, steps 1-4)."""
+    """The line's steps of the one driver (``fft_driver``; module docstring, steps 1-4)."""
+
+    MIN_LEVELS = 3  # the estimate uses the previous difference: from the third level on
+    RETRY_FINER = True
+    ALTERNATIVE = "try method abel"
 
     def __init__(self, prob: Problem, grid_points, domain_length):
         self.prob, self.scene = prob, prob.scene
@@ -316,6 +309,8 @@ class _LineSolve:
         self.exponential = self.scene.interface_law == "exponential"
         self.indenter = None  # the cylinder, or a height function (made when loaded)
         self.image_amplitude = _IMAGE_AMPLITUDE * max(1.0, abs(prob.mu_contact) / 10.0)
+        if prob.visco:  # the long relaxation tails' images are summed exactly (tail_terms)
+            prob.margin = prob.film.domain_margin(prob.tol, tails_corrected=True)
 
     def unloaded(self) -> ContactResult:
         """P = 0: no contact, zero fields."""
@@ -406,11 +401,11 @@ class _LineSolve:
 
     def refine(self, located):
         """2.-4. the period (contact plus the decay margin, centred on the contact) and the
-        grid levels on it; beyond the friction where the images' amplitude was measured
-        (|mu| <= _MU_IMAGES_MEASURED), their effect is measured instead: strong friction
-        amplifies it far beyond the kernels' exp(-0.739 s) (mu = 30, a = 29 h, tol 1e-3: a 1.5 %
-        off with 16.8 h of free period), and an automatic period is lengthened until it is
-        below tol/4.  Returns the final level (``_Level``)."""
+        grid levels on it (``fft_driver.refine``); beyond the friction where the images'
+        amplitude was measured (|mu| <= _MU_IMAGES_MEASURED), their effect is measured
+        instead: strong friction amplifies it far beyond the kernels' exp(-0.739 s) (mu = 30,
+        a = 29 h, tol 1e-3: a 1.5 % off with 16.8 h of free period), and an automatic period
+        is lengthened until it is below tol/4.  Returns the ``Levels``."""
         sol, q = located
         prob, tol = self.prob, self.prob.tol
         guard = 4 * sol.grid.dx
@@ -421,15 +416,19 @@ class _LineSolve:
                         or prob.visco)
         domain_diff = 0.0
         for _attempt in range(_DOMAIN_ATTEMPTS):
-            lv = self.levels(sol, q, L, center)
+            sizes = _level_sizes(L, q["a"], tol, self.grid_points, self.domain_length,
+                                 prob.film.edge_scales() if prob.visco else ())
+            self._L, self._center = L, center
+            lv = refine(self, sizes, L, center, located)
             if not check_images:
                 return lv
             # 4. the images' effect, measured: the final level's nodes on the period 2L
-            g2 = Grid.centered(2 * lv.n, 2 * L, center)
+            fine = lv.cur
+            g2 = Grid.centered(2 * fine.grid.n, 2 * L, center)
             far = prob.count(self.contact(
-                g2, p_init=np.interp(g2.x, lv.grid.x, lv.cur.pressure, period=L)
+                g2, p_init=np.interp(g2.x, fine.grid.x, fine.sol.pressure, period=L)
                 * (np.abs(g2.x - center) < 0.5 * L)))
-            domain_diff = _difference(_measure(far, prob.visco), lv.q0)
+            domain_diff = _difference(_measure(far, prob.visco), fine.q0)
             lv.image_error = max(lv.image_error, domain_diff)
             lv.est = lv.disc + lv.image_error
             lv.domain_diff = domain_diff
@@ -441,22 +440,28 @@ class _LineSolve:
             f"period of {L / 2:.4g} h (contact {2 * q['a']:.3g} h): the scene is beyond the FFT "
             f"method's range at tol {tol:g}", residuals=[domain_diff], iterations=_DOMAIN_ATTEMPTS)
 
-    def start(self, g, sol, q, prev, qprev):
+    def grid(self, n, L, center):
+        return Grid.centered(n, L, center)
+
+    def start(self, g, located, prev):
         """The nested start of a level: the locator's pressure (first level) or the previous
         level's, refined, with the first active set from the fitted edges."""
         adaptive = self.prob.adaptive
         if prev is None:
-            def located(x, s0=sol):  # (np.interp is elementwise: only where it is kept)
+            sol, q = located
+
+            def located_p(x, s0=sol):  # (np.interp is elementwise: only where it is kept)
                 return np.interp(x, s0.grid.x, s0.pressure, period=s0.grid.length)
-            return (_first_set(g, q["edges"], located) if adaptive and not self.exponential
-                    and q["edges"] else located(g.x))
-        refined = refine_nested(prev.pressure)
+            return (_first_set(g, q["edges"], located_p) if adaptive and not self.exponential
+                    and q["edges"] else located_p(g.x))
+        refined = refine_nested(prev.sol.pressure)
         # exponential interface: no contact set, the whole refined pressure
         return refined if self.exponential else _first_set(
-            g, qprev["edges"], refined, _EDGE_REACH if adaptive else 0.0)
+            g, prev.q["edges"], refined, _EDGE_REACH if adaptive else 0.0)
 
-    def solve_level(self, g, p_init):
-        """A level: the grid and the grid shifted by half a cell (4.); (cur, q0, q1)."""
+    def solve_level(self, g, p_init, first=False):
+        """A level: the grid and the grid shifted by half a cell (4.), their measures averaged
+        (``Level``: also q0, the grid's own, and shift_diff, the two grids' difference)."""
         visco = self.prob.visco
         cur = self.contact(g, p_init=p_init)
         gs = Grid.centered(g.n, self._L, self._center + 0.5 * g.dx)
@@ -470,130 +475,73 @@ class _LineSolve:
             # p > 0 but is mostly out of contact: one active-set step less)
             ps = _first_set(gs, q0["edges"], ps)
         shifted = self.contact(gs, p_init=ps)
-        return cur, shifted, q0, _measure(shifted, visco)
+        q1 = _measure(shifted, visco)
+        self.prob.count(cur)
+        self.prob.count(shifted)
+        return Level(g, cur, _average(q0, q1), max(cur.residual, shifted.residual), q0=q0,
+                     shift_diff=_difference(q0, q1))
 
-    def levels(self, sol, q, L, center):
-        """3. grid levels on the period L (doubling N) until the estimate is below tol."""
-        prob, tol, gp = self.prob, self.prob.tol, self.grid_points
-        film = prob.film
-        sizes = _level_sizes(L, q["a"], tol, gp, self.domain_length,
-                             film.edge_scales() if prob.visco else ())
-        self._L, self._center = L, center
-        prev = qprev = last_step = None
-        est = float("inf")
-        lv = _Level(levels=[], ests=[])
-        for i, n in enumerate(sizes):
-            prob.level(i + 1, (n,), (L,), est)
-            g = Grid.centered(n, L, center)
-            try:
-                cur, shifted, q0, q1 = self.solve_level(g, self.start(g, sol, q, prev, qprev))
-            except ConvergenceError:
-                # the coarsest automatic level may not settle (strong friction: mu = 30 at
-                # a = 29 h on 64 points); start the comparison one level finer instead
-                if prev is None and not gp and i + 2 < len(sizes) and i < 2:
-                    continue
-                raise
-            prob.count(cur)
-            prob.count(shifted)
-            qcur = _average(q0, q1)
-            lv.update(n=n, grid=g, cur=cur, q0=q0, qcur=qcur,
-                      residual=max(cur.residual, shifted.residual))
-            lv.levels.append((n, qcur))
-            if prev is not None:
-                last_step, est = self.estimate(lv, qprev, last_step, _difference(q0, q1), L)
-                if gp or (est <= tol and i >= 2):
-                    return lv
-                _check_stagnation(lv.ests, n, est, tol, len(lv.levels))
-            prev, qprev = cur, qcur
-        raise ConvergenceError(
-            f"grid refinement reached N = {sizes[-1]} points with error estimate {est:.1e} > "
-            f"tol {tol:.1e}; raise tol or set grid_points", residuals=lv.ests or [est],
-            iterations=len(lv.levels))
-
-    def estimate(self, lv, qprev, last_step, shift_diff, L):
-        """The level's error estimate: convergence in N is not monotone (edges move across
-        nodes): also the previous difference, halved as first order predicts, and what is left
-        of the phase error after averaging (a quarter of the shift difference, measured); plus
-        the periodic images' and the unresolved viscoelastic edges'.  (step, estimate)."""
-        prob, qcur = self.prob, lv.qcur
-        step = _steps(qcur, qprev)
+    def difference(self, lv, cur, prev):
+        """The discretisation error of level ``cur``: convergence in N is not monotone (edges
+        move across nodes): also the previous difference, halved as first order predicts, and
+        what is left of the phase error after averaging (a quarter of the shift difference,
+        measured): ``_discretisation_error``.  Records the estimate's parts."""
+        step = _steps(cur.q, prev.q)
         diff = float(np.max(np.abs(step)))
-        lv.image_error = self.image_amplitude * math.exp(
-            -prob.film.decay_rate * max(L - 2.0 * qcur["a"], 0.0))
-        lv.disc = _discretisation_error(step, last_step, shift_diff, soft_edges=bool(prob.c))
-        if prob.visco:
-            lv.disc += _unresolved_edges(prob.film.edge_scales(), qcur["a"], lv.grid.dx)
-        lv.est = lv.disc + lv.image_error
-        lv.parts = {"level_difference": diff, "shift_difference": shift_diff,
+        last_step = lv.last_step
+        disc = _discretisation_error(step, last_step, cur.shift_diff,
+                                     soft_edges=bool(self.prob.c))
+        lv.parts = {"level_difference": diff, "shift_difference": cur.shift_diff,
                     "previous_difference": (float(np.max(np.abs(last_step)))
                                             if last_step is not None else 0.0)}
-        lv.ests.append(lv.est)
-        return step, lv.est
+        lv.last_step = step
+        return disc
 
-    def result(self, lv) -> ContactResult:
-        """The final level's ContactResult: base stresses, info, counters."""
+    def size(self, q) -> float:
+        """The half-width (the unresolved viscoelastic edges are relative to it)."""
+        return q["a"]
+
+    def image_error(self, q, L) -> float:
+        """The periodic images' error, amplitude x exp(-decay rate x free period)."""
+        return self.image_amplitude * math.exp(
+            -self.prob.film.decay_rate * max(L - 2.0 * q["a"], 0.0))
+
+    def fields(self, sol, p, shear):
+        """The base stresses (sigma_zz, sigma_xz) of the pressure and its shear (2 FFT pairs)."""
+        szz, (sxz,) = self.prob.film.base_stresses(get_rfft(sol.grid.shape), sol.grid, -p,
+                                                   (shear,))
+        self.prob.counters["transforms"] += 2
+        return szz, sxz
+
+    def level_row(self, n, q):
+        return (n, q["a"], q["c"], q["d"], q["pmax"])
+
+    def result(self, lv, fields, info, wall, plan_time, shear) -> ContactResult:
+        """The final level's ContactResult."""
         prob, scene = self.prob, self.scene
-        sol, q, film = lv.cur, lv.qcur, prob.film
-        p = sol.pressure
-        shear = prob.surface_shear(sol, p)
-        szz, (sxz,) = film.base_stresses(get_rfft(sol.grid.shape), sol.grid, -p,
-                                         (scene.mu * p if shear is None else shear,))
-        prob.counters["transforms"] += 2
-        wall, plan_time = prob.times()
-        info = {
+        fine, q = lv.cur, lv.cur.q
+        sol, (szz, sxz) = fine.sol, fields
+        info.update({
             "fft_pairs": prob.counters["transforms"],
             "krylov_iterations": prob.counters["linear_iterations"],
-            "final_level_active_set_iterations": sol.iterations,
-            "final_level_krylov_iterations": sol.krylov_iterations,
-            "levels": [(n, v["a"], v["c"], v["d"], v["pmax"]) for n, v in lv.levels],
-            "residuals": sol.residuals,
             "edges": q["edges"],
-            "domain_margin": prob.margin,
             "poisson": scene.poisson,
             "image_error": lv.image_error,
             "estimate_parts": lv.parts,
             "domain_difference": lv.domain_diff,
             "tolerance_met": bool(lv.est <= prob.tol),
-        }
-        if not prob.friction.is_amontons:
-            info["friction_law_iterations"] = prob.law_iterations
+        })
         if prob.visco:  # the averaged centroid (the error estimate covers it: _steps)
             info["pressure_centroid"] = q["m"]
-            info["tail_length"] = film.tail_length
         if prob.c:
             info["interface_compliance"] = prob.c
         if self.exponential:
             info["width_definition"] = (f"exponential interface: no sharp edges; the contact "
                                         f"window is where p >= {EDGE_FRACTION:g} p_max")
         return ContactResult(
-            scene=scene, model=prob.model, method="fft", x=sol.grid.x, pressure=p,
+            scene=scene, model=prob.model, method="fft", x=sol.grid.x, pressure=sol.pressure,
             base_sigma_zz=szz, base_sigma_xz=sxz, half_width=q["a"], center=q["c"],
             indentation=q["d"], max_pressure=q["pmax"], max_pressure_x=q["xmax"],
             grid_points=sol.grid.n, domain_length=sol.grid.length, iterations=sol.iterations,
-            residual=lv.residual, error_estimate=lv.est, wall_time_s=wall,
+            residual=fine.residual, error_estimate=lv.est, wall_time_s=wall,
             plan_time_s=plan_time, info=info, counters=dict(prob.counters), shear=shear)
-
-
-class _Level:
-    """The state of the finest level solved so far (``_LineSolve.levels``)."""
-
-    def __init__(self, levels, ests):
-        self.levels, self.ests = levels, ests
-        self.image_error = self.disc = self.est = math.inf
-        self.parts, self.domain_diff = {}, 0.0
-
-    def update(self, **kw):
-        self.__dict__.update(kw)
-
-
-def _check_stagnation(ests, n, est, tol, levels: int) -> None:
-    """First order divides the estimate by ~2 per doubling: three doublings that take off less
-    than 10 % mean the levels have stopped converging (seen at |mu| >= 30: the estimate
-    settles at 1.9e-3 or 4.5e-2, the grid and the shifted grid holding different solutions)."""
-    k = _STAGNATION_DOUBLINGS
-    if len(ests) > k and ests[-1] > 0.9 * ests[-k - 1]:
-        raise ConvergenceError(
-            f"grid refinement stagnates: error estimate {ests[-k - 1]:.1e} at N = "
-            f"{n >> k} and still {est:.1e} at N = {n} > tol {tol:.1e}; the scene is "
-            f"beyond the FFT method's range at this tol (try method abel)",
-            residuals=ests, iterations=levels)

@@ -40,19 +40,17 @@ import numpy as np
 
 from ..errors import ConvergenceError, InputError
 from ..numerics.contact import nested_guess
-from ..numerics.fft import get_rfft, planning_time
+from ..numerics.fft import get_rfft
 from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.measure2d import measure_contact_2d
 from ..numerics.open_domain import box_of, open_grid
+from ..numerics.operators import tail_terms
 from ..physics.film import Film
 from ..physics.scene import Scene3D, check_positive
 from ..result import ContactResult3D
 from .base import check_grid_points
 from .fft3d_fields import _FAR_CELLS, _far_fields, _open_contact, _output_fields, _touches_box
-from .fft_driver import Problem, run
-
-_VISCO_EDGE_CELLS = 4  # as solvers.fft (issue 23)
-_VISCO_EDGE_SHARE = 0.25
+from .fft_driver import VISCO_EDGE_CELLS, VISCO_EDGE_SHARE, Level, Problem, finish, refine, run
 
 __all__ = ["solve_fft3d", "MIN_POINTS_3D", "MAX_POINTS_3D", "memory_needed", "default_tol"]
 
@@ -162,11 +160,12 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
         module, which the command line shows on a terminal once a command passes 2 s).
     """
     # issue 14: any nu (nu = 1/2: the incompressible path); issue 23: a viscoelastic film in
-    # steady sliding (its relaxation tail lengthens the period along x only).  The locator's
+    # steady sliding (its relaxation tail lengthens the period along x only, up to 2.7 h:
+    # longer tails have their images summed, numerics.operators.tail_terms).  The locator's
     # inner solves are looser on every path (adaptive=True: its contact only sizes the period
     # and the grid).
     prob = Problem(scene, model, tol, adaptive=True,
-                   progress=logging.getLogger(__name__).info if progress is None else progress)
+                   progress=logging.getLogger(__name__) if progress is None else progress)
     grid_points, domain_length = _check_fixed(grid_points, domain_length)
     # the inner (GMRES) solves to 1e-4 of the accepted residual (issue 25: 1e-10 before; one
     # to two GMRES iterations per active-set step for digits no measure keeps; 1e-3 left the
@@ -176,7 +175,11 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
 
 
 class _SurfaceSolve:
-    """The surface's steps of the one driver (``fft_driver.run``)."""
+    """The surface's steps of the one driver (``fft_driver``)."""
+
+    MIN_LEVELS = 2  # the estimate is the last two levels' difference
+    RETRY_FINER = True
+    ALTERNATIVE = "raise tol"
 
     def __init__(self, prob: Problem, grid_points, domain_length):
         self.prob, self.scene = prob, prob.scene
@@ -185,6 +188,8 @@ class _SurfaceSolve:
         # a user grid on a user period (issue 25): no locator, whose contact would only be
         # checked against the period (~4-6 FFT-pair times of 512^2); the first level's is
         self.fixed_box = bool(grid_points) and domain_length is not None
+        if prob.visco:  # the long relaxation tails' images are summed exactly (tail_terms)
+            prob.margin = prob.film.domain_margin(prob.tol, tails_corrected=True)
 
     def unloaded(self) -> ContactResult3D:
         """P = 0: no contact, zero fields."""
@@ -204,9 +209,8 @@ class _SurfaceSolve:
         self.n0, self.L0 = self.locator_grid()
         if not self.grid_points and self.domain_length is None and not prob.with_law \
                 and not prob.visco and max(self.n0) > _OPEN_ABOVE:
-            return _solve_open(prob.scene, prob.model, prob.tol, prob.film, self.ind,
-                               prob.mu_contact, prob.c, prob.accept, prob.margin, prob.progress,
-                               prob.t0, prob.plans0, prob.counters)
+            steps = _OpenSolve(prob, self.ind)
+            return finish(steps, steps.refine(steps.period(steps.locate())))
         return None
 
     def locate(self):
@@ -219,18 +223,16 @@ class _SurfaceSolve:
         return sol, _measure(sol, self.ind)
 
     def refine(self, period):
-        """3. the levels on the periods (``levels``)."""
+        """3. the levels on the periods (``fft_driver.refine``)."""
         L, center, widths = period
-        return self.levels(self.level_shapes(L, widths), L, center)
+        return refine(self, self.level_shapes(L, widths), L, center)
 
     def contact(self, grid, p_init=None, locator=False):
         prob, film = self.prob, self.prob.film
-        if prob.visco:  # the k_x = 0 modes: R averaged over their band (Film.on_grid)
-            if p_init is None:  # the indenter's own guess, not the nested start: its coarse
-                # grids on the tail's long period hold the contact on a node or two (measured:
-                # the sphere at V = 10 m/s, tau 10 ms failed on the load residual, 5 %)
-                p_init = np.broadcast_to(self.ind.initial_pressure(grid), grid.shape).copy()
-            film = film.on_grid(grid.lengths)
+        if prob.visco and p_init is None:  # the indenter's own guess, not the nested
+            # start: its coarse grids on a long period held the contact on a node or two
+            # (measured: the sphere at V = 10 m/s, tau 10 ms failed on the load residual, 5 %)
+            p_init = np.broadcast_to(self.ind.initial_pressure(grid), grid.shape).copy()
         return prob.count(prob.solve_contact(grid, [self.ind], film, p_init, locator))
 
     def locator_grid(self):
@@ -302,64 +304,66 @@ class _SurfaceSolve:
             # as in 2D (solvers.fft._level_sizes): resolve the edge structure |V| tau_i (along
             # x, the sliding direction) of a term that moves the contact by more than a share
             # of tol (issue 23)
-            if weight * width / radius > _VISCO_EDGE_SHARE * tol:
-                dx1 = min(dx1, width / _VISCO_EDGE_CELLS)
+            if weight * width / radius > VISCO_EDGE_SHARE * tol:
+                dx1 = min(dx1, width / VISCO_EDGE_CELLS)
         n1 = (pow2_at_least(L[0] / dx1, MIN_POINTS_3D),
               pow2_at_least(L[1] / (d1 * stretch[1]), MIN_POINTS_3D))
         if dx1 < d1 * stretch[0] and n1[0] > MAX_POINTS_3D:
             raise InputError(
                 f"the viscoelastic film's edge structure (|V| tau down to "
-                f"{dx1 * _VISCO_EDGE_CELLS:.2g} h) needs ~{L[0] / dx1:.2g} points along x at tol "
+                f"{dx1 * VISCO_EDGE_CELLS:.2g} h) needs ~{L[0] / dx1:.2g} points along x at tol "
                 f"{tol:g} (> {MAX_POINTS_3D}): raise --tol, or change --speed")
         levels = [n1]
         while max(levels[-1]) < MAX_POINTS_3D:
             levels.append(tuple(2 * n for n in levels[-1]))
         return levels
 
-    def levels(self, levels, L, center):
-        """3. the levels, each started from the previous one (nested), until two agree to
-        tol.  (cur, qcur, est, extent_est, history)."""
-        prob, tol, ind = self.prob, self.prob.tol, self.ind
-        prev = qprev = None
-        est = extent_est = float("inf")
-        history = []
-        for i, shape in enumerate(levels):
-            _check_size(shape, f"tol {tol:g}")
-            g = Grid.centered(shape, L, center)
-            prob.level(i + 1, shape, L, est)
-            if prev is not None and prev.grid.shape == tuple(n // 2 for n in shape):
-                p_init = nested_guess(prev, g)
-            else:
-                p_init = None  # the indenter's own guess
-            cur = self.contact(g, p_init=p_init)
-            qcur = _measure(cur, ind)
-            if self.fixed_box and i == 0:
-                self.check_period(qcur)
-            history.append((shape, qcur))
-            if qprev is not None:
-                est = _difference(qcur, qprev, ind.singular_peak)
-                if prob.visco:  # terms whose edge structure spans < _VISCO_EDGE_CELLS cells
-                    radius = math.sqrt(qcur["area"] / math.pi)
-                    est += sum(w * ell / radius for ell, w in prob.film.edge_scales()
-                               if ell < _VISCO_EDGE_CELLS * g.spacing[0])
-                extent_est = _extent_difference(qcur, qprev)
-                if self.grid_points or est <= tol:
-                    return cur, qcur, est, extent_est, history
-            prev, qprev = cur, qcur
-        raise ConvergenceError(
-            f"grid refinement reached {levels[-1][0]} x {levels[-1][1]} points with error "
-            f"estimate {est:.1e} > tol {tol:.1e}; raise tol or set grid_points",
-            residuals=[est], iterations=len(history))
+    def grid(self, shape, L, center):
+        _check_size(shape, f"tol {self.prob.tol:g}")
+        return Grid.centered(shape, L, center)
+
+    def start(self, g, located, prev):
+        """The previous level's pressure, refined (nested), else the indenter's own guess."""
+        if prev is not None and prev.grid.shape == tuple(n // 2 for n in g.shape):
+            return nested_guess(prev.sol, g)
+        return None
+
+    def solve_level(self, g, p_init, first=False):
+        """A level's solve and measures; a fixed box's first level checks the user's period."""
+        cur = self.contact(g, p_init=p_init)
+        q = _measure(cur, self.ind)
+        if self.fixed_box and first:
+            self.check_period(q)
+        return Level(g, cur, q, cur.residual)
+
+    def difference(self, lv, cur, prev):
+        """The levels' difference of the controlled measures (``_difference``); the extents'
+        own is recorded (``extent_error_estimate``)."""
+        lv.extent_est = _extent_difference(cur.q, prev.q)
+        return _difference(cur.q, prev.q, self.ind.singular_peak)
+
+    def size(self, q) -> float:
+        """The contact radius sqrt(A/pi) (the unresolved viscoelastic edges are relative to it)."""
+        return math.sqrt(q["area"] / math.pi)
+
+    def image_error(self, q, lengths) -> float:
+        """0: the periods' decay margin keeps the images ~tol/100, not part of the estimate."""
+        return 0.0
+
+    def level_row(self, shape, q):
+        return (shape, q["area"], q["x_min"], q["x_max"], q["indentation"], q["pmax"])
 
     def fields(self, sol, p, shear):
         """The final grid's base tractions and surface displacements (FFT pairs counted)."""
         prob, scene, film = self.prob, self.scene, self.prob.film
-        if prob.visco:  # the final grid's film (its k_x = 0 band): the Film's own output fields
-            film = film.on_grid(sol.grid.lengths)
+        if prob.visco:  # the Film's own output fields; the sinking with the long tails'
+            # images summed as in the contact (numerics.operators.tail_terms; u_x, u_y: not)
             fft = get_rfft(sol.grid.shape)
             shear_ = (shear, np.zeros_like(p))
             szz, (sxz, syz) = film.base_stresses(fft, sol.grid, -p, shear_)
             (ux, uy), delta = film.surface_displacements(fft, sol.grid, p, shear_)
+            for t in tail_terms(sol.grid.shape, sol.grid.lengths, film.tail_poles(scene.mu)):
+                delta = delta + t.field(p.ravel(), slice(None)).reshape(p.shape)
             prob.counters["transforms"] += 5
             return szz, sxz, syz, ux, uy, delta
         # (a law with q = mu p exactly, e.g. power with n = 0: the Amontons fields, bit for bit)
@@ -381,138 +385,149 @@ class _SurfaceSolve:
         return (float(np.sum(p[on] * dfdx[on]) / np.sum(p[on])) * scene.thickness
                 / (2.0 * scene.radius) if on.any() else 0.0)
 
-    def result(self, final) -> ContactResult3D:
+    def result(self, lv, fields, info, wall, plan_time, law_shear) -> ContactResult3D:
         prob, scene = self.prob, self.scene
-        sol, q, est, extent_est, history = final
+        sol, q = lv.cur.sol, lv.cur.q
         p = sol.pressure
-        law_shear = prob.surface_shear(sol, p)
-        shear = scene.mu * p if law_shear is None else law_shear
-        szz, sxz, syz, ux, uy, delta = self.fields(sol, p, shear)
-        mu_def = self.deformation_friction(sol, p)
-        wall, plan_time = prob.times()
-        info = {
-            **_solve_info(history, sol, prob.margin, q, extent_est),
-            "deformation_friction": mu_def + 0.0,
-            **({"tail_length": prob.film.tail_length} if prob.visco else {}),
-        }
+        szz, sxz, syz, ux, uy, delta = fields
+        info.update(_surface_info(lv))
+        info["deformation_friction"] = self.deformation_friction(sol, p) + 0.0
         x, y = sol.grid.axes
         return ContactResult3D(
             scene=scene, model=prob.model, method="fft", x=x, y=y, pressure=p,
             base_sigma_zz=szz, base_sigma_xz=sxz, base_sigma_yz=syz, surface_ux=ux,
             surface_uy=uy, surface_uz=-delta, measures=q, grid_points=sol.grid.shape,
             domain_length=sol.grid.lengths, iterations=sol.iterations, residual=sol.residual,
-            error_estimate=est, wall_time_s=wall, plan_time_s=plan_time, info=info,
+            error_estimate=lv.est, wall_time_s=wall, plan_time_s=plan_time, info=info,
             counters=prob.counters, shear=law_shear)
 
 
-def _solve_info(history, sol, margin, q, extent_est) -> dict:
-    """The ``info`` entries every 3D solve reports (periodic grid or open box)."""
+def _surface_info(lv) -> dict:
+    """The ``info`` entries of a surface besides the driver's (periodic grid or open box)."""
+    sol, q = lv.cur.sol, lv.cur.q
     return {
-        "levels": [(s, h["area"], h["x_min"], h["x_max"], h["indentation"], h["pmax"])
-                   for s, h in history],
-        "residuals": sol.residuals,
-        "domain_margin": margin,
         "load_on_grid": q["load"],
-        "extent_error_estimate": extent_est,
+        "extent_error_estimate": lv.extent_est,
         "extent_note": "contact x and y extents are envelopes of edges fitted along grid lines "
                        "(a few hundredths of a cell); not controlled by tol: their level "
                        "difference is extent_error_estimate",
         # the finest grid's own work (its nested start's coarser grids excluded), issue 25
-        "final_level_active_set_iterations": sol.iterations,
-        "final_level_krylov_iterations": sol.krylov_iterations,
         "final_level_fft_pairs": sol.fft_pairs - sol.coarse_fft_pairs,
     }
 
-def _solve_open(scene, model, tol, film, ind, mu, c, accept, margin, progress, t0, plans0,
-                counters) -> ContactResult3D:
-    """A contact much smaller than the film's decay margin (issue 24): solved on an open box
-    (``numerics.open_domain``: the film's kernel in real space, non-periodic), cells sized from
-    the contact, refined as the periodic levels until two agree to ``tol``; the base fields
-    from the film's period (``_far_fields``).  The reported grid is the box."""
 
-    def count(sol):
-        counters["transforms"] += sol.fft_pairs
-        counters["iterations"] += sol.iterations
-        counters["linear_iterations"] += sol.krylov_iterations
-        return sol
+class _OpenSolve(_SurfaceSolve):
+    """A contact much smaller than the film's decay margin (issue 24), the surface's shortcut:
+    solved on an open box (``numerics.open_domain``: the film's kernel in real space,
+    non-periodic), cells sized from the contact, refined by the driver's levels until two
+    agree to ``tol`` (1.5 x their difference); the base fields from the film's period
+    (``_far_fields``).  The reported grid is the box."""
 
-    ex, ey = ind.extent_bound()
-    apex = float(getattr(ind, "apex", 0.0))
-    box = (4.0 * ex, 4.0 * ey)
-    d0 = 2.0 * min(ex, ey) / _FIRST_ACROSS
-    for _ in range(6):  # the locator's box doubled while the contact reaches its border
-        nb = tuple(pow2_at_least(B / d0, MIN_POINTS_3D) for B in box)
-        g0 = open_grid(nb, box, (apex, 0.0))
-        _check_size(g0.shape, "locating the contact")
-        if progress:
-            progress(f"locating the contact on an open {nb[0]} x {nb[1]} box")
-        sol = count(_open_contact(g0, ind, mu, film, c, accept))
-        if not _touches_box(sol):
-            break
-        box = (2.0 * box[0], 2.0 * box[1])
-    q = _measure(sol, ind)
-    width = (q["x_max"] - q["x_min"], q["y_max"] - q["y_min"])
-    center = (0.5 * (q["x_max"] + q["x_min"]), 0.0)
-    d1 = min(width) / _FIRST_ACROSS
-    # the contact plus 8 cells of the first level each side (the edge fits need 6), in
-    # multiples of 8 cells (FFT-friendly sizes); cells d1 exactly: the levels share the box
-    n1 = tuple(max(MIN_POINTS_3D, 8 * math.ceil((w / d1 + 16.0) / 8.0)) for w in width)
-    box = tuple(n * d1 for n in n1)
-    prev = qprev = None
-    est = extent_est = float("inf")
-    history = []
-    shape = n1
-    while True:
-        g = open_grid(shape, box, center)
-        _check_size(g.shape, f"tol {tol:g}")
-        if progress:
-            progress(f"open box level {len(history) + 1}: {shape[0]} x {shape[1]} box, "
-                     f"{time.perf_counter() - t0:.1f} s")
-        p_init = nested_guess(prev, g) if prev is not None else None
-        cur = count(_open_contact(g, ind, mu, film, c, accept, p_init))
-        if _touches_box(cur):
-            raise ConvergenceError(f"the open box ({box[0]:.3g} x {box[1]:.3g} h) does not hold "
-                                   "the contact: raise tol or fix grid_points",
-                                   residuals=[cur.residual], iterations=len(history) + 1)
-        qcur = _measure(cur, ind)
-        history.append((shape, qcur))
-        if qprev is not None:
-            # 1.5 x the level difference (as the line solver's _LEVEL_MARGIN): the measures
-            # converge at first order here (the difference halves per level), where the bare
-            # difference was measured 0.9x the error against the axisymmetric reference
-            est = _OPEN_MARGIN * _difference(qcur, qprev, ind.singular_peak)
-            extent_est = _extent_difference(qcur, qprev)
-            if est <= tol:
+    MIN_LEVELS = 2
+    RETRY_FINER = False  # a contact reaching its box's border is not helped by finer cells
+
+    def __init__(self, prob: Problem, ind):
+        self.prob, self.scene, self.ind = prob, prob.scene, ind
+        self.grid_points = self.domain_length = None
+        self.fixed_box = False
+        self.solved = 0  # levels
+
+    def contact(self, grid, p_init=None, locator=False):
+        prob = self.prob
+        return prob.count(_open_contact(grid, self.ind, prob.mu_contact, prob.film, prob.c,
+                                        prob.accept, p_init))
+
+    def locate(self):
+        """The contact on an open box of 4x the indenter's extent bound, doubled while the
+        contact reaches its border."""
+        ex, ey = self.ind.extent_bound()
+        apex = float(getattr(self.ind, "apex", 0.0))
+        box = (4.0 * ex, 4.0 * ey)
+        d0 = 2.0 * min(ex, ey) / _FIRST_ACROSS
+        for _ in range(6):  # the locator's box doubled while the contact reaches its border
+            nb = tuple(pow2_at_least(B / d0, MIN_POINTS_3D) for B in box)
+            g0 = open_grid(nb, box, (apex, 0.0))
+            _check_size(g0.shape, "locating the contact")
+            self.prob.say(f"locating the contact on an open {nb[0]} x {nb[1]} box")
+            sol = self.contact(g0)
+            if not _touches_box(sol):
                 break
-        if 2 * max(g.shape) > MAX_POINTS_3D:
-            raise ConvergenceError(
-                f"grid refinement reached an open {shape[0]} x {shape[1]} box with error "
-                f"estimate {est:.1e} > tol {tol:.1e}; raise tol", residuals=[est],
-                iterations=len(history))
-        prev, qprev = cur, qcur
-        shape = tuple(2 * n for n in shape)
+            box = (2.0 * box[0], 2.0 * box[1])
+        return sol, _measure(sol, self.ind)
 
-    sol, q = cur, qcur
-    sl = box_of(sol.grid)
-    x, y = (a[s] for a, s in zip(sol.grid.axes, sl))
-    p = np.ascontiguousarray(sol.pressure[sl])
-    uz = -np.ascontiguousarray(sol.sinking[sl])
-    gbox = Grid.centered(p.shape, box, center)
-    szz, sxz, syz, ux, uy, _ = _far_fields(film, gbox, p, scene.mu, margin)
-    total = time.perf_counter() - t0
-    plan_time = planning_time() - plans0
-    info = {
-        **_solve_info(history, sol, margin, q, extent_est),
-        "open_box": True,
-        "open_box_note": "a contact much smaller than h: solved on an open (non-periodic) box "
-                         f"of {box[0]:.4g} x {box[1]:.4g} h around it (the film's kernel in real "
-                         "space); the maps cover that box only; the base tractions come from the "
-                         "film's period (exact), the surface ux, uy are resolved at "
-                         f"h/{_FAR_CELLS} only (u_z and the pressure at the box's cells)",
-    }
-    return ContactResult3D(
-        scene=scene, model=model, method="fft", x=x, y=y, pressure=p, base_sigma_zz=szz,
-        base_sigma_xz=sxz, base_sigma_yz=syz, surface_ux=ux, surface_uy=uy, surface_uz=uz,
-        measures=q, grid_points=p.shape, domain_length=box,
-        iterations=sol.iterations, residual=sol.residual, error_estimate=est,
-        wall_time_s=total - plan_time, plan_time_s=plan_time, info=info, counters=counters)
+    def period(self, located):
+        """The box: the contact plus 8 cells of the first level each side (the edge fits need
+        6), in multiples of 8 cells (FFT-friendly sizes); cells d1 exactly: the levels share the
+        box.  (first shape, box, center)."""
+        _, q = located
+        width = (q["x_max"] - q["x_min"], q["y_max"] - q["y_min"])
+        center = (0.5 * (q["x_max"] + q["x_min"]), 0.0)
+        d1 = min(width) / _FIRST_ACROSS
+        n1 = tuple(max(MIN_POINTS_3D, 8 * math.ceil((w / d1 + 16.0) / 8.0)) for w in width)
+        return n1, tuple(n * d1 for n in n1), center
+
+    def refine(self, period):
+        """The levels on the box: doublings while the padded grid stays within MAX_POINTS_3D."""
+        n1, box, center = period
+        shapes = [n1]
+        while 4 * max(shapes[-1]) <= MAX_POINTS_3D:
+            shapes.append(tuple(2 * n for n in shapes[-1]))
+        self.box, self.center = box, center
+        return refine(self, shapes, box, center)
+
+    def grid(self, shape, box, center):
+        g = open_grid(shape, box, center)
+        _check_size(g.shape, f"tol {self.prob.tol:g}")
+        return g
+
+    def start(self, g, located, prev):
+        return nested_guess(prev.sol, g) if prev is not None else None
+
+    def solve_level(self, g, p_init, first=False):
+        cur = self.contact(g, p_init)
+        self.solved += 1
+        if _touches_box(cur):
+            raise ConvergenceError(f"the open box ({self.box[0]:.3g} x {self.box[1]:.3g} h) does "
+                                   "not hold the contact: raise tol or fix grid_points",
+                                   residuals=[cur.residual], iterations=self.solved)
+        return Level(g, cur, _measure(cur, self.ind), cur.residual)
+
+    def difference(self, lv, cur, prev):
+        """1.5 x the level difference (as the line solver's _LEVEL_MARGIN): the measures
+        converge at first order here (the difference halves per level), where the bare
+        difference was measured 0.9x the error against the axisymmetric reference."""
+        lv.extent_est = _extent_difference(cur.q, prev.q)
+        return _OPEN_MARGIN * _difference(cur.q, prev.q, self.ind.singular_peak)
+
+    def fields(self, sol, p, shear):
+        """The base tractions and surface displacements at the box's nodes, from the film's
+        period (``_far_fields``); Amontons: its shear mu p made there."""
+        sl = box_of(sol.grid)
+        pb = np.ascontiguousarray(p[sl])
+        gbox = Grid.centered(pb.shape, self.box, self.center)
+        law = None if self.prob.friction.is_amontons else np.ascontiguousarray(shear[sl])
+        return _far_fields(self.prob.film, gbox, pb, self.scene.mu, self.prob.margin, law)
+
+    def result(self, lv, fields, info, wall, plan_time, law_shear) -> ContactResult3D:
+        prob, box = self.prob, self.box
+        sol, q = lv.cur.sol, lv.cur.q
+        sl = box_of(sol.grid)
+        x, y = (a[s] for a, s in zip(sol.grid.axes, sl))
+        p = np.ascontiguousarray(sol.pressure[sl])
+        uz = -np.ascontiguousarray(sol.sinking[sl])
+        szz, sxz, syz, ux, uy, _ = fields
+        info.update(_surface_info(lv))
+        info["open_box"] = True
+        info["open_box_note"] = (
+            "a contact much smaller than h: solved on an open (non-periodic) box of "
+            f"{box[0]:.4g} x {box[1]:.4g} h around it (the film's kernel in real space); the "
+            "maps cover that box only; the base tractions come from the film's period (exact), "
+            f"the surface ux, uy are resolved at h/{_FAR_CELLS} only (u_z and the pressure at "
+            "the box's cells)")
+        return ContactResult3D(
+            scene=self.scene, model=prob.model, method="fft", x=x, y=y, pressure=p,
+            base_sigma_zz=szz, base_sigma_xz=sxz, base_sigma_yz=syz, surface_ux=ux,
+            surface_uy=uy, surface_uz=uz, measures=q, grid_points=p.shape, domain_length=box,
+            iterations=sol.iterations, residual=sol.residual, error_estimate=lv.est,
+            wall_time_s=wall, plan_time_s=plan_time, info=info, counters=prob.counters,
+            shear=None if law_shear is None else np.ascontiguousarray(law_shear[sl]))

@@ -13,10 +13,6 @@ from ..numerics.open_domain import box_of, open_compliance_operator
 from ..physics.film import Film
 from ..physics.transfer import F2, compressible_tangential_function, tanh_over, transfer_functions
 
-_VISCO_EDGE_CELLS = 4  # as solvers.fft (issue 23)
-_VISCO_EDGE_SHARE = 0.25
-
-
 _FAR_CELLS = 12    # the base fields of an open solve: a periodic grid of cells h / this (the
 # base transfer decays as exp(-|k| h): e^-37 at its Nyquist wavenumber)
 
