@@ -1,6 +1,7 @@
 """Inverse: from base stresses (or the MEMS view) back to the interface tractions (issue 21).
 
     python -m studies.inverse [--quick] [--out DIR] [--seeds N]
+                              [--parts calibration,sweep,routes,speed,figure]
 
 Synthetic records on the paper's film (h = 2 mm, E = 2.2 MPa, R = 130 mm, P_L = 200 N/m) over
 x in [-10, 10] mm, 401 samples (step 0.05 mm), white Gaussian noise of sd = (noise) x the peak
@@ -24,8 +25,10 @@ of each component, one record per seed:
 3. the paper's route (P = Int S_zz dx, Q/P = Int S_xz / Int S_zz over the record) against the
    local route on the same records, and whether a shear strength is told from Amontons at the
    paper's noise: the share of seeds where Amontons loses by AIC > 2 (strength case).
-4. speed: CPU seconds (``time.process_time``) of records of 401 and 10^4 samples, with and
-   without the hyperparameters' propagation (median of warm runs; the load beside it).
+4. speed: CPU seconds (``time.process_time``) of records of 401 and 10^4 samples, base and
+   sensor views, the auto prior with and without the hyperparameters' propagation and the
+   contact prior alone (median of warm runs; the load beside it), with the number of evidence
+   evaluations and, in the same run, the CPU time of one evaluation and of an FFT pair.
 
 Writes inverse_calibration.csv (one row per record), inverse_summary.csv (means over seeds),
 inverse_sweep.csv, inverse_routes.csv, inverse_speed.csv, inverse_example.csv (a record a new
@@ -46,6 +49,7 @@ from spectral_contact.instruments.sensor import sensor_profiles
 from ._common import parse, table, write_rows
 
 X = np.arange(-10e-3, 10e-3 + 1e-9, 0.05e-3)
+PARTS = ("calibration", "sweep", "routes", "speed", "figure")
 
 
 def truth(case: str, thickness: float = 0.002):
@@ -105,7 +109,62 @@ def score(tr, inv):
             "err_P": s["load_N_per_m"] / P - 1.0, "err_Q": s["tangential_load_N_per_m"] / Q - 1.0,
             "resolution_mm": s["resolution_length_m"] * 1e3,
             "aic_amontons_minus_linear": (am.get("aic", np.nan) - lin.get("aic", np.nan)),
-            "best_law": laws.get("best")}
+            "best_law": laws.get("best"),
+            "prior": s["regularisation"].get("prior_choice", {}).get("chosen", "contact")}
+
+
+class _count_evaluations:
+    """Counts the evidence evaluations of the two line priors inside a ``with`` block."""
+
+    def __enter__(self):
+        from spectral_contact.instruments import inverse_evidence, inverse_prior
+
+        self.counts = {"contact": 0, "envelope": 0}
+        self.saved = []
+        for cls, key in ((inverse_prior.ContactPrior, "contact"),
+                         (inverse_evidence._Evidence, "envelope")):
+            orig = cls.evaluate
+
+            def ev(obj, *a, _orig=orig, _key=key, **k):
+                self.counts[_key] += 1
+                return _orig(obj, *a, **k)
+
+            self.saved.append((cls, orig))
+            cls.evaluate = ev
+        return self.counts
+
+    def __exit__(self, *exc):
+        for cls, orig in self.saved:
+            cls.evaluate = orig
+        return False
+
+
+def _unit_times(repeats: int = 51):
+    """CPU seconds (median) of one contact-prior evidence evaluation with its gradient on 60
+    nodes, and of one FFT pair of 8192 points."""
+    from spectral_contact.instruments.inverse_forward import LineForward
+    from spectral_contact.instruments.inverse_prior import ContactPrior
+    from spectral_contact.numerics.fft import get_rfft
+    from spectral_contact.physics.film import Film
+
+    x = np.linspace(-5.0, 5.0, 201)
+    fwd = LineForward.build(x, Film(1.0, 0.5), step=1.0 / 16.0, span=(-1.85, 1.85))
+    d = np.sqrt(np.clip(1 - x**2, 0, None))
+    ev = ContactPrior(fwd, d, 0.5 * d)
+    th = np.array([0.0, 0.0, 0.0, 1.0, 0.5, -3.0, 0.0, -3.0, 0.0, -7.0, -4.6, -4.6])
+    f = get_rfft(8192)
+    a = np.random.default_rng(0).random(8192)
+    sym = np.ones(8192 // 2 + 1, complex)
+
+    def med(fn):
+        ts = []
+        for _ in range(repeats):
+            c0 = time.process_time()
+            fn()
+            ts.append(time.process_time() - c0)
+        return float(np.median(ts))
+
+    return med(lambda: ev.evaluate(th, grad=True)), med(lambda: [f.apply(a, sym) for _ in range(20)]) / 20
 
 
 def summarise(rows, keys):
@@ -131,143 +190,171 @@ def summarise(rows, keys):
 
 
 def main(argv=None) -> int:
-    args, out = parse(argv, __doc__.splitlines()[0], "out/inverse",
-                      extra=lambda p: p.add_argument("--seeds", type=int, default=None,
-                                                     help="noise seeds per calibration case "
-                                                          "(20; --quick 2)"))
+    def extra(p):
+        p.add_argument("--seeds", type=int, default=None,
+                       help="noise seeds per calibration case (10; --quick 2)")
+        p.add_argument("--parts", default=",".join(PARTS),
+                       help=f"comma-separated subset of {','.join(PARTS)} (default all)")
+
+    args, out = parse(argv, __doc__.splitlines()[0], "out/inverse", extra=extra)
+    parts = [s.strip() for s in args.parts.split(",") if s.strip()]
+    bad = [s for s in parts if s not in PARTS]
+    if bad:
+        print(f"--parts: {','.join(bad)} not among {','.join(PARTS)}", file=sys.stderr)
+        return 2
     seeds = args.seeds or (2 if args.quick else 10)
     t0 = time.perf_counter()
     cases = ("amontons", "strength", "mu_varying")
     truths = {c: truth(c) for c in cases}
-    # 1. calibration: an independent noise draw for every record (seed 1000 case + 100 view + s)
-    rows = []
-    npos = max(1, seeds // 3)
-    n = len(cases) * 2 * seeds + 2 * npos
-    runs = [(case, view, False, s) for case in cases for view in ("base", "sensor")
-            for s in range(seeds)]
-    runs += [(case, "base", True, s) for case in ("amontons", "strength") for s in range(npos)]
-    for case, view, positive, s in runs:
-        seed = 1000 * cases.index(case) + 100 * (view == "sensor") + 50 * positive + s
-        zz, xz = record(truths[case], view, 0.01, seed)
-        c0 = time.process_time()
-        inv = invert_line(X, zz, xz, view=view, positive=positive)
-        rows.append({"case": case, "view": view, "positive": positive, "noise": 0.01,
-                     "seed": seed, "cpu_s": time.process_time() - c0,
-                     **score(truths[case], inv)})
-        print(f"  [{len(rows)}/{n}] {case} {view}{' positive' if positive else ''} seed {seed} "
-              f"({time.perf_counter() - t0:.0f} s)", file=sys.stderr, flush=True)
-    write_rows(rows, out / "inverse_calibration.csv",
-               "inverse calibration: one row per record (1 % noise, 401 samples over +-10 mm)")
-    summ = summarise(rows, ("case", "view", "positive"))
-    summ += summarise([dict(r, case="all", view="all") for r in rows if not r["positive"]],
-                      ("case", "view", "positive"))
-    table(summ, out / "inverse_summary.csv",
-          f"inverse calibration, 1 % noise, {seeds} seeds per row: L2 errors, 2-sd coverage "
-          f"(central 70 % / whole contact), P and Q z-scores")
-    # 2. noise and feature size
-    sweep = []
-    s2 = 1 if args.quick else 3
-    for view in ("base", "sensor"):
-        for noise in ((0.01,) if args.quick else (0.003, 0.01, 0.03)):
-            for seed in range(s2):
-                zz, xz = record(truths["amontons"], view, noise, 5000 + seed)
-                sweep.append({"sweep": "noise", "view": view, "noise": noise, "a_over_h": 1.17,
-                              **score(truths["amontons"], invert_line(X, zz, xz, view=view))})
-        for h in ((0.001,) if args.quick else (0.001, 0.004)):
-            tr = truth("amontons", h)
-            a_over_h = 0.5 * (tr[0][tr[1] > 0].max() - tr[0][tr[1] > 0].min()) / h
-            for seed in range(s2):
-                zz, xz = record(tr, view, 0.01, 6000 + seed)
-                sweep.append({"sweep": "thickness", "view": view, "noise": 0.01,
-                              "a_over_h": round(a_over_h, 3),
-                              **score(tr, invert_line(X, zz, xz, thickness=h, view=view))})
-        print(f"  sweep {view} done ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
-    write_rows(sweep, out / "inverse_sweep.csv",
-               "inverse: error and coverage against noise and a/h (amontons case)")
-    table(summarise(sweep, ("sweep", "view", "noise", "a_over_h")), out / "inverse_sweep_summary.csv",
-          "inverse: means over seeds against noise and contact half-width / h")
-    # 3. routes: the paper's two integrals against the local route (sensor view, 1 % noise)
-    routes = []
-    for ci, case in enumerate(cases):
-        x, p, q, szz, sxz, P, Q = truths[case]
-        for s in range(min(seeds, 5)):
-            seed = 1000 * ci + 100 + s  # the calibration's sensor records
-            zz, xz = record(truths[case], "sensor", 0.01, seed)
-            Pi, Qi = float(np.trapezoid(zz, X)), float(np.trapezoid(xz, X))
-            inv = invert_line(X, zz, xz, view="sensor")
-            s = inv.summary()
-            routes.append({"case": case, "seed": seed, "P_true": P, "Q_over_P_true": Q / P,
-                           "P_integral_err": Pi / P - 1, "Q_over_P_integral_err": (Qi / Pi) / (Q / P) - 1,
-                           "P_local_err": s["load_N_per_m"] / P - 1,
-                           "P_local_sigma_rel": s["load_sigma_N_per_m"] / P,
-                           "Q_over_P_local_err": s["Q_over_P"] / (Q / P) - 1,
-                           "Q_over_P_local_sigma_rel": s["Q_over_P_sigma"] / (Q / P),
-                           "best_law": s["laws"].get("best"),
-                           "aic_amontons_minus_linear": s["laws"]["amontons"]["aic"]
-                           - s["laws"]["linear"]["aic"]})
-    table(routes, out / "inverse_routes.csv",
-          "paper's route (integrals over the +-10 mm record) vs the local route (sensor view, 1 % "
-          "noise)")
-    # 4. speed: CPU time of the solve (time.process_time) for 401 and 10^4 samples
-    speed = []
-    for ns in (401, 10_000):
-        xs = np.linspace(-10e-3, 10e-3, ns)
-        zz, xz = record(truths["amontons"], "base", 0.01, 0, xs)
-        invert_line(xs, zz, xz, hyper=False)
-        for hyper in (False, True):
-            ts = []
-            for _ in range(1 if args.quick else 3):
-                c0 = time.process_time()
-                invert_line(xs, zz, xz, hyper=hyper)
-                ts.append(time.process_time() - c0)
-            speed.append({"samples": ns, "hyper_propagated": hyper,
-                          "median_cpu_s": float(np.median(ts)), "load_1min": os.getloadavg()[0],
-                          "cores": os.cpu_count()})
-    table(speed, out / "inverse_speed.csv",
-          "inverse: CPU seconds of one inversion (median of warm runs; process_time, one thread)")
-    # example record for a new user (strength case, sensor-free, 1 % noise)
-    x, p, q, szz, sxz, P, Q = truths["strength"]
-    rng = np.random.default_rng(0)
-    bz, bx = np.interp(X, x, szz), np.interp(X, x, sxz)
-    write_rows([{"x_m": float(a), "base_sigma_zz_Pa": float(b), "base_sigma_xz_Pa": float(c)}
-                for a, b, c in zip(X, bz + 0.01 * np.abs(bz).max() * rng.standard_normal(X.size),
-                                   bx + 0.01 * np.abs(bx).max() * rng.standard_normal(X.size))],
-               out / "inverse_example.csv")
-    # figure: one inversion of each case (sensor view), truth over the bands
-    from matplotlib.figure import Figure
+    if "calibration" in parts:
+        # 1. calibration: an independent noise draw for every record (seed 1000 case + 100 view + s)
+        rows = []
+        npos = max(1, seeds // 3)
+        n = len(cases) * 2 * seeds + 2 * npos
+        runs = [(case, view, False, s) for case in cases for view in ("base", "sensor")
+                for s in range(seeds)]
+        runs += [(case, "base", True, s) for case in ("amontons", "strength") for s in range(npos)]
+        for case, view, positive, s in runs:
+            seed = 1000 * cases.index(case) + 100 * (view == "sensor") + 50 * positive + s
+            zz, xz = record(truths[case], view, 0.01, seed)
+            c0 = time.process_time()
+            inv = invert_line(X, zz, xz, view=view, positive=positive)
+            rows.append({"case": case, "view": view, "positive": positive, "noise": 0.01,
+                         "seed": seed, "cpu_s": time.process_time() - c0,
+                         **score(truths[case], inv)})
+            print(f"  [{len(rows)}/{n}] {case} {view}{' positive' if positive else ''} seed {seed} "
+                  f"({time.perf_counter() - t0:.0f} s)", file=sys.stderr, flush=True)
+        write_rows(rows, out / "inverse_calibration.csv",
+                   "inverse calibration: one row per record (1 % noise, 401 samples over +-10 mm)")
+        summ = summarise(rows, ("case", "view", "positive"))
+        summ += summarise([dict(r, case="all", view="all") for r in rows if not r["positive"]],
+                          ("case", "view", "positive"))
+        table(summ, out / "inverse_summary.csv",
+              f"inverse calibration, 1 % noise, {seeds} seeds per row: L2 errors, 2-sd coverage "
+              f"(central 70 % / whole contact), P and Q z-scores")
+    if "sweep" in parts:
+        # 2. noise and feature size
+        sweep = []
+        s2 = 1 if args.quick else 3
+        for view in ("base", "sensor"):
+            for noise in ((0.01,) if args.quick else (0.003, 0.01, 0.03)):
+                for seed in range(s2):
+                    zz, xz = record(truths["amontons"], view, noise, 5000 + seed)
+                    sweep.append({"sweep": "noise", "view": view, "noise": noise, "a_over_h": 1.17,
+                                  **score(truths["amontons"], invert_line(X, zz, xz, view=view))})
+            for h in ((0.001,) if args.quick else (0.001, 0.004)):
+                tr = truth("amontons", h)
+                a_over_h = 0.5 * (tr[0][tr[1] > 0].max() - tr[0][tr[1] > 0].min()) / h
+                for seed in range(s2):
+                    zz, xz = record(tr, view, 0.01, 6000 + seed)
+                    sweep.append({"sweep": "thickness", "view": view, "noise": 0.01,
+                                  "a_over_h": round(a_over_h, 3),
+                                  **score(tr, invert_line(X, zz, xz, thickness=h, view=view))})
+            print(f"  sweep {view} done ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
+        write_rows(sweep, out / "inverse_sweep.csv",
+                   "inverse: error and coverage against noise and a/h (amontons case)")
+        table(summarise(sweep, ("sweep", "view", "noise", "a_over_h")), out / "inverse_sweep_summary.csv",
+              "inverse: means over seeds against noise and contact half-width / h")
+    if "routes" in parts:
+        # 3. routes: the paper's two integrals against the local route (sensor view, 1 % noise)
+        routes = []
+        for ci, case in enumerate(cases):
+            x, p, q, szz, sxz, P, Q = truths[case]
+            for s in range(min(seeds, 5)):
+                seed = 1000 * ci + 100 + s  # the calibration's sensor records
+                zz, xz = record(truths[case], "sensor", 0.01, seed)
+                Pi, Qi = float(np.trapezoid(zz, X)), float(np.trapezoid(xz, X))
+                inv = invert_line(X, zz, xz, view="sensor")
+                s = inv.summary()
+                routes.append({"case": case, "seed": seed, "P_true": P, "Q_over_P_true": Q / P,
+                               "P_integral_err": Pi / P - 1, "Q_over_P_integral_err": (Qi / Pi) / (Q / P) - 1,
+                               "P_local_err": s["load_N_per_m"] / P - 1,
+                               "P_local_sigma_rel": s["load_sigma_N_per_m"] / P,
+                               "Q_over_P_local_err": s["Q_over_P"] / (Q / P) - 1,
+                               "Q_over_P_local_sigma_rel": s["Q_over_P_sigma"] / (Q / P),
+                               "best_law": s["laws"].get("best"),
+                               "aic_amontons_minus_linear": s["laws"]["amontons"]["aic"]
+                               - s["laws"]["linear"]["aic"]})
+        table(routes, out / "inverse_routes.csv",
+              "paper's route (integrals over the +-10 mm record) vs the local route (sensor view, 1 % "
+              "noise)")
+    if "speed" in parts:
+        # 4. speed: CPU time of the solve (time.process_time) for 401 and 10^4 samples, the
+        # evidence evaluations it made (a count the machine's load does not change), and the
+        # CPU time of one evaluation of the contact prior's evidence with its gradient on 60
+        # nodes (the unit of the work) and of an FFT pair of 8192 points, timed in the same run
+        speed = []
+        for view in ("base", "sensor"):
+            for ns in (401, 10_000):
+                xs = np.linspace(-10e-3, 10e-3, ns)
+                zz, xz = record(truths["amontons"], view, 0.01, 0, xs)
+                invert_line(xs, zz, xz, view=view, hyper=False)
+                for prior, hyper in (("auto", True), ("auto", False), ("contact", True)):
+                    ts = []
+                    for _ in range(1 if args.quick else 3):
+                        with _count_evaluations() as counts:
+                            c0 = time.process_time()
+                            invert_line(xs, zz, xz, view=view, prior=prior, hyper=hyper)
+                            ts.append(time.process_time() - c0)
+                    unit, pair = _unit_times()
+                    speed.append({"view": view, "samples": ns, "prior": prior,
+                                  "hyper_propagated": hyper,
+                                  "median_cpu_s": float(np.median(ts)),
+                                  "evaluations_contact": counts["contact"],
+                                  "evaluations_envelope": counts["envelope"],
+                                  "evaluation_cpu_ms": unit * 1e3, "fft_pair_cpu_us": pair * 1e6,
+                                  "load_1min": os.getloadavg()[0], "cores": os.cpu_count()})
+                    print(f"  speed {view} {ns} {prior} hyper={hyper}: "
+                          f"{speed[-1]['median_cpu_s']:.2f} s", file=sys.stderr, flush=True)
+        table(speed, out / "inverse_speed.csv",
+              "inverse: CPU seconds of one inversion (median of warm runs; process_time, one "
+              "thread), the evidence evaluations it made (contact and envelope priors), and in "
+              "the same run the CPU time of one contact-prior evaluation with gradient (60 "
+              "nodes) and of an FFT pair (8192 points)")
+    if "figure" in parts:
+        # example record for a new user (strength case, sensor-free, 1 % noise)
+        x, p, q, szz, sxz, P, Q = truths["strength"]
+        rng = np.random.default_rng(0)
+        bz, bx = np.interp(X, x, szz), np.interp(X, x, sxz)
+        write_rows([{"x_m": float(a), "base_sigma_zz_Pa": float(b), "base_sigma_xz_Pa": float(c)}
+                    for a, b, c in zip(X, bz + 0.01 * np.abs(bz).max() * rng.standard_normal(X.size),
+                                       bx + 0.01 * np.abs(bx).max() * rng.standard_normal(X.size))],
+                   out / "inverse_example.csv")
+        # figure: one inversion of each case (sensor view), truth over the bands
+        from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(12, 7), layout="constrained")
-    axes = fig.subplots(2, 3)
-    for j, case in enumerate(cases):
-        x, p, q, *_ = truths[case]
-        zz, xz = record(truths[case], "sensor", 0.01, 0)
-        inv = invert_line(X, zz, xz, view="sensor")
-        ax = axes[0, j]
-        for f, sd, t, c, lab in ((inv.pressure_Pa, inv.pressure_sd_Pa, p, "C0", "p"),
-                                 (inv.shear_Pa, inv.shear_sd_Pa, q, "C1", "q")):
-            ax.fill_between(inv.x_m * 1e3, (f - 2 * sd) / 1e3, (f + 2 * sd) / 1e3, color=c,
-                            alpha=0.3)
-            ax.plot(inv.x_m * 1e3, f / 1e3, c + "-", label=f"{lab} posterior mean, 2 sd")
-            ax.plot(x * 1e3, t / 1e3, "k--", lw=0.8)
-        ax.set_xlim(-5, 6)
-        ax.set_title(f"{case} (sensor view, 1 % noise); truth dashed", fontsize=9)
-        ax.set_xlabel("x [mm]")
-        ax.set_ylabel("kPa")
-        ax.legend(fontsize=7)
-        ax = axes[1, j]
-        ok = np.isfinite(inv.mu_local)
-        ax.fill_between(inv.x_m[ok] * 1e3, inv.mu_local[ok] - 2 * inv.mu_local_sd[ok],
-                        inv.mu_local[ok] + 2 * inv.mu_local_sd[ok], color="C2", alpha=0.3)
-        ax.plot(inv.x_m[ok] * 1e3, inv.mu_local[ok], "C2.-", label="q/p (p > 3 sd), 2 sd")
-        on = p > 0
-        ax.plot(x[on] * 1e3, q[on] / p[on], "k--", lw=0.8, label="truth")
-        ax.set_xlim(-5, 6)
-        ax.set_ylim(0, 2)
-        ax.set_xlabel("x [mm]")
-        ax.set_ylabel("mu_local")
-        ax.legend(fontsize=7)
-    fig.savefig(out / "inverse.png", dpi=110)
-    print(f"(written {out / 'inverse.png'}; {time.perf_counter() - t0:.0f} s)")
+        fig = Figure(figsize=(12, 7), layout="constrained")
+        axes = fig.subplots(2, 3)
+        for j, case in enumerate(cases):
+            x, p, q, *_ = truths[case]
+            zz, xz = record(truths[case], "sensor", 0.01, 0)
+            inv = invert_line(X, zz, xz, view="sensor")
+            ax = axes[0, j]
+            for f, sd, t, c, lab in ((inv.pressure_Pa, inv.pressure_sd_Pa, p, "C0", "p"),
+                                     (inv.shear_Pa, inv.shear_sd_Pa, q, "C1", "q")):
+                ax.fill_between(inv.x_m * 1e3, (f - 2 * sd) / 1e3, (f + 2 * sd) / 1e3, color=c,
+                                alpha=0.3)
+                ax.plot(inv.x_m * 1e3, f / 1e3, c + "-", label=f"{lab} posterior mean, 2 sd")
+                ax.plot(x * 1e3, t / 1e3, "k--", lw=0.8)
+            ax.set_xlim(-5, 6)
+            ax.set_title(f"{case} (sensor view, 1 % noise); truth dashed", fontsize=9)
+            ax.set_xlabel("x [mm]")
+            ax.set_ylabel("kPa")
+            ax.legend(fontsize=7)
+            ax = axes[1, j]
+            ok = np.isfinite(inv.mu_local)
+            ax.fill_between(inv.x_m[ok] * 1e3, inv.mu_local[ok] - 2 * inv.mu_local_sd[ok],
+                            inv.mu_local[ok] + 2 * inv.mu_local_sd[ok], color="C2", alpha=0.3)
+            ax.plot(inv.x_m[ok] * 1e3, inv.mu_local[ok], "C2.-", label="q/p (p > 3 sd), 2 sd")
+            on = p > 0
+            ax.plot(x[on] * 1e3, q[on] / p[on], "k--", lw=0.8, label="truth")
+            ax.set_xlim(-5, 6)
+            ax.set_ylim(0, 2)
+            ax.set_xlabel("x [mm]")
+            ax.set_ylabel("mu_local")
+            ax.legend(fontsize=7)
+        fig.savefig(out / "inverse.png", dpi=110)
+        print(f"(written {out / 'inverse.png'}; {time.perf_counter() - t0:.0f} s)")
     return 0
 
 

@@ -1,7 +1,7 @@
 """The stick zone of a sphere on the paper's film under a growing tangential load, against
 Mindlin's circle c = a (1 - Q/(mu P))^(1/3).
 
-    python -m studies.onset_sphere [--quick] [--out DIR]
+    python -m studies.onset_sphere [--quick] [--sizes 0.3,1,2] [--steps N] [--out DIR]
 
 The reference: Mindlin (1949), J. Appl. Mech. 16, 259; Johnson, Contact Mechanics (1985),
 sect. 7.2 (eq. 7.44): a half-space, the slip assumed along Q; at nu = 1/2 the normal and
@@ -64,11 +64,20 @@ def rows_for(s: float, steps: int) -> list[dict]:
     return rows
 
 
+def _options(p):
+    p.add_argument("--sizes", default=None,
+                   help="a_H/h values, comma-separated (default 0.3,1,2; --quick 0.3,1)")
+    p.add_argument("--steps", type=int, default=None,
+                   help="tangential steps (default 10; --quick 5)")
+
+
 def main(argv=None) -> int:
-    args, out = parse(argv, __doc__.splitlines()[0], "out/onset_sphere")
+    args, out = parse(argv, __doc__.splitlines()[0], "out/onset_sphere", extra=_options)
     t0 = time.perf_counter()
     sizes = (0.3, 1.0) if args.quick else (0.3, 1.0, 2.0)
-    steps = 5 if args.quick else 10
+    if args.sizes:
+        sizes = tuple(float(v) for v in args.sizes.split(","))
+    steps = args.steps or (5 if args.quick else 10)
     rows = []
     for i, s in enumerate(sizes):
         rows += rows_for(s, steps)

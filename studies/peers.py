@@ -135,9 +135,9 @@ def scene_for(s: float, mu: float, base: Scene = Scene()) -> Scene:
 def common_residual(grid: Grid, p: np.ndarray, P: float, symbol: np.ndarray) -> float:
     """The same convergence measure for every solution: gap on the contact nodes and penetration
     off them (relative to the indentation), load error; with the operator ``symbol`` (w^ =
-    symbol p^, the sinking)."""
-    w = get_rfft(grid.n).apply(p, symbol)
-    f = grid.x**2
+    symbol p^, the sinking).  The profile is |x|^2 (lines: x^2; surfaces: x^2 + y^2)."""
+    w = get_rfft(grid.shape).apply(p, symbol)
+    f = sum(a**2 for a in np.meshgrid(*grid.axes, indexing="ij"))
     act = p > 0
     if not act.any():
         return float("inf")
@@ -146,7 +146,7 @@ def common_residual(grid: Grid, p: np.ndarray, P: float, symbol: np.ndarray) -> 
     scale = max(abs(d), 1e-300)
     gap = float(np.max(np.abs(g[act]))) / scale
     pen = float(max(0.0, -g[~act].min(initial=0.0))) / scale
-    load = abs(float(np.sum(p)) * grid.dx - P) / P
+    load = abs(float(np.sum(p)) * grid.cell - P) / P
     return max(gap, pen, load)
 
 
@@ -189,7 +189,6 @@ def ours_runner(grid: Grid, P: float, nu: float = 0.5):
 def contactmechanics_runner(grid: Grid, P: float, film: bool, d_scale: float, p_scale: float,
                             nu: float = 0.5, tol: float = RTOL):
     from ContactMechanics import PeriodicFFTElasticHalfSpace
-    from ContactMechanics.Optimization import constrained_conjugate_gradients
 
     n, L = grid.n, grid.length
     if film:  # layer Green's function exists for 2D grids only: y-invariant strip, ny = 1
@@ -207,6 +206,14 @@ def contactmechanics_runner(grid: Grid, P: float, film: bool, d_scale: float, p_
         sub = PeriodicFFTElasticHalfSpace((n,), 4.0, physical_sizes=(L,))
         heights = UniformLineScan(-(grid.x**2), L, periodic=True)
         force = P
+    return _cm_run(sub, heights, force, d_scale, p_scale, tol, (n,))
+
+
+def _cm_run(sub, heights, force, d_scale, p_scale, tol, shape):
+    """One cold constrained-CG solve of ContactMechanics on ``sub`` (a runner: the solve call
+    timed; its pressure reshaped to ``shape``)."""
+    from ContactMechanics.Optimization import constrained_conjugate_gradients
+
     kw = dict(external_force=force, pentol=tol * d_scale,
               forcetol=tol * p_scale * sub.area_per_pt, thermotol=tol, maxiter=100000)
 
@@ -214,7 +221,7 @@ def contactmechanics_runner(grid: Grid, P: float, film: bool, d_scale: float, p_
         t = time.perf_counter()
         res = constrained_conjugate_gradients(sub, heights, **kw)
         dt = time.perf_counter() - t
-        return {"p": np.asarray(res.jac).reshape(n) / sub.area_per_pt, "t": dt,
+        return {"p": np.asarray(res.jac).reshape(shape) / sub.area_per_pt, "t": dt,
                 "its": int(res.nit), "cost": int(res.nfev),
                 "note": "" if res.success else "not converged"}
     return run
@@ -241,15 +248,18 @@ def _run_capturing_output(fn):
     return out, text
 
 
-def tamaas_operator(model, n: int, symbol: np.ndarray):
+def tamaas_operator(model, shape, symbol: np.ndarray):
     """A tamaas integral operator defined in Python (tamaas 2.9: a subclass of
     ``tamaas.IntegralOperator`` put in ``model.operators[name]``, then
     ``PolonskyKeerRey.setIntegralOperator(name)``): displacement^ = symbol * traction^, by the
-    same planned pyfftw transform pair as ours (its C++ Westergaard operator uses FFTW too).
-    ``symbol`` in our units with tamaas' E, nu set as below (E* = 4): 1/(2|k|) is Westergaard's."""
+    same planned pyfftw transform pair as ours (its C++ Westergaard operator uses FFTW too),
+    on a basic_1d model (``shape`` one number or (n,)) or basic_2d ((nx, ny)).  ``symbol`` in
+    our units with tamaas' E, nu set as below (E* = 4): 1/(2|k|) is Westergaard's."""
     import tamaas as tm
 
-    fft = get_rfft(n)
+    shape = tuple(np.atleast_1d(shape))
+    fft = get_rfft(shape)
+    kind = tm.model_type.basic_1d if len(shape) == 1 else tm.model_type.basic_2d
 
     class SymbolOperator(tm.IntegralOperator):
         def __init__(self, model):
@@ -258,13 +268,13 @@ def tamaas_operator(model, n: int, symbol: np.ndarray):
 
         def apply(self, inp, out):
             self.calls += 1
-            out[...] = fft.apply(inp.reshape(n), symbol).reshape(out.shape)
+            out[...] = fft.apply(np.asarray(inp).reshape(shape), symbol).reshape(out.shape)
 
         def getKind(self):
             return tm.IntegralOperator.neumann
 
         def getType(self):
-            return tm.model_type.basic_1d
+            return kind
 
         def updateFromModel(self):
             pass
@@ -556,43 +566,55 @@ def fixed_grid_comparison(exps=FIXED_EXPS, level: float = LEVEL, repeats: int = 
             p_ref = ref.pressure
             solvers = _fixed_solvers(operator, grid, P, sym, float(ref.indentations[0]),
                                      float(p_ref.max()))
-            chosen, lines = {}, {}
-            for name, (pkg, make) in solvers.items():
-                version = "this" if pkg == "this" else versions[pkg]
-                base = {"operator": operator, "N": n, "L_h": L, "solver": name, "version": version}
-                if pkg != "this" and not present(versions, pkg):
-                    lines[name] = {**base, "status": "not measured (peer not installed)"}
-                    continue
-                tol, run, err, exc = _loosest_meeting(make, p_ref, level)
-                if tol is None:
-                    why = f"; last failure {type(exc).__name__}: {exc}"[:100] if exc else ""
-                    lines[name] = {**base, "dp_ref": err,
-                                   "status": f"not measured (best {err:.1e} > {level:g}{why})"}
-                    continue
-                chosen[name] = run
-                lines[name] = {**base, "tol": tol, "dp_ref": err, "status": "timed"}
-            res = time_round_robin(chosen, repeats, stat="median") if chosen else {}
-            pair = fft_pair_time(n)
-            t0 = res[OURS_FIXED]["t"] if OURS_FIXED in res else float("nan")
-            for name, line in lines.items():
-                row = {"operator": operator, "N": n, "L_h": L, "solver": name,
-                       "version": line["version"], "tol": line.get("tol", float("nan")),
-                       "dp_ref": line.get("dp_ref", float("nan")), "residual": float("nan"),
-                       "iterations": "-", "fft_pairs": "-", "time_ms": float("nan"),
-                       "time_ratio": float("nan"),
-                       "time_in_fft_pairs": float("nan"), "fft_pair_us": 1e6 * pair,
-                       "status": line["status"]}
-                if name in res:
-                    x = res[name]
-                    row.update(residual=common_residual(grid, x["p"], P, sym), iterations=x["its"],
-                               fft_pairs=x["cost"],
-                               time_ms=1e3 * x["t"], time_ratio=x["t"] / t0,
-                               time_in_fft_pairs=x["t"] / pair)
-                rows.append(row)
-            if log:
-                log(f"  {operator} N = 2^{e}: " + "; ".join(
-                    f"{r_['solver']} {r_['time_ratio']:.3g}x" for r_ in rows[-len(lines):]
-                    if r_["solver"] != OURS_FIXED))
+            rows += _equal_accuracy(operator, grid, P, sym, solvers, p_ref, level, repeats,
+                                    versions, lambda n=n: fft_pair_time(n),
+                                    f"  {operator} N = 2^{e}: ", log)
+    return rows
+
+
+def _equal_accuracy(operator, grid: Grid, P: float, sym, solvers: dict, p_ref, level: float,
+                    repeats: int, versions: dict, pair_time, label: str, log) -> list[dict]:
+    """Cases D and E on one grid: each solver (name -> (package, make(tol) -> run)) at the
+    loosest of its tolerances whose pressure is within ``level`` max p_ref of ``p_ref``
+    (``_loosest_meeting``), then timed (medians of ``repeats`` interleaved warm runs); one row
+    each: tolerance, dp_ref, the common residual, iterations, time, time / ours and time in
+    FFT-pair times (``pair_time()``, measured after the runs); "not measured (...)" rows for
+    the peers absent or never within ``level``."""
+    n, L = grid.shape[0], grid.lengths[0]
+    chosen, lines = {}, {}
+    for name, (pkg, make) in solvers.items():
+        version = "this" if pkg == "this" else versions[pkg]
+        if pkg != "this" and not present(versions, pkg):
+            lines[name] = {"version": version, "status": "not measured (peer not installed)"}
+            continue
+        tol, run, err, exc = _loosest_meeting(make, p_ref, level)
+        if tol is None:
+            why = f"; last failure {type(exc).__name__}: {exc}"[:100] if exc else ""
+            lines[name] = {"version": version, "dp_ref": err,
+                           "status": f"not measured (best {err:.1e} > {level:g}{why})"}
+            continue
+        chosen[name] = run
+        lines[name] = {"version": version, "tol": tol, "dp_ref": err, "status": "timed"}
+    res = time_round_robin(chosen, repeats, stat="median") if chosen else {}
+    pair = pair_time()
+    t0 = res[OURS_FIXED]["t"] if OURS_FIXED in res else float("nan")
+    rows = []
+    for name, line in lines.items():
+        row = {"operator": operator, "N": n, "L_h": L, "solver": name,
+               "version": line["version"], "tol": line.get("tol", float("nan")),
+               "dp_ref": line.get("dp_ref", float("nan")), "residual": float("nan"),
+               "iterations": "-", "fft_pairs": "-", "time_ms": float("nan"),
+               "time_ratio": float("nan"), "time_in_fft_pairs": float("nan"),
+               "fft_pair_us": 1e6 * pair, "status": line["status"]}
+        if name in res:
+            x = res[name]
+            row.update(residual=common_residual(grid, x["p"], P, sym), iterations=x["its"],
+                       fft_pairs=x["cost"], time_ms=1e3 * x["t"], time_ratio=x["t"] / t0,
+                       time_in_fft_pairs=x["t"] / pair)
+        rows.append(row)
+    if log:
+        log(label + "; ".join(f"{r_['solver']} {r_['time_ratio']:.3g}x" for r_ in rows
+                              if r_["solver"] != OURS_FIXED))
     return rows
 
 
@@ -601,23 +623,29 @@ def peer_targets(rows: list[dict], level: float = LEVEL) -> list[dict]:
     format (target, measured, limit, unit, status): for each operator, N and peer, the peer's
     fastest configuration's time / our time >= SPEEDUP, met or not; "not measured (...)" when
     the peer is absent or never reached ``level``."""
+    return _targets(rows, SPEEDUP, lambda operator, n, peer: (
+        f"vs {peer} {operator} N=2^{int(round(math.log2(n)))} (frictionless, same grid, p to "
+        f"{level:g} p_max): peer time / our time"))
+
+
+def _targets(rows: list[dict], limit: float, title) -> list[dict]:
+    """One target row per (operator, N, peer): the peer's fastest timed configuration's time /
+    ours >= ``limit``, met or not, or the status of why it was not measured; ``title(operator,
+    N, peer)`` names it."""
     groups = {}
     for r_ in rows:
         if r_["solver"] != OURS_FIXED:
             groups.setdefault((r_["operator"], r_["N"], r_["solver"].split()[0]), []).append(r_)
     out = []
     for (operator, n, peer), rs in groups.items():
-        e = int(round(math.log2(n)))
-        name = (f"vs {peer} {operator} N=2^{e} (frictionless, same grid, p to {level:g} p_max): "
-                f"peer time / our time")
         timed = [r_ for r_ in rs if r_["status"] == "timed"]
         if timed:
             ratio = min(r_["time_ratio"] for r_ in timed)
-            status = "met" if ratio >= SPEEDUP else "not met"
+            status = "met" if ratio >= limit else "not met"
         else:
             ratio, status = float("nan"), rs[0]["status"]
-        out.append({"target": name, "measured": ratio, "limit": SPEEDUP, "unit": "x (>= limit)",
-                    "status": status})
+        out.append({"target": title(operator, n, peer), "measured": ratio, "limit": limit,
+                    "unit": "x (>= limit)", "status": status})
     return out
 
 
@@ -641,23 +669,6 @@ SURFACE_SPEEDUP = 5.0     # issue 25: at least 5x tamaas with the same symbol at
 SURFACE_PERIOD_M = 0.03   # the 3D speed target's period
 
 
-def surface_residual(grid: Grid, p: np.ndarray, P: float, symbol: np.ndarray) -> float:
-    """``common_residual`` on a surface grid (f = x^2 + y^2)."""
-    w = get_rfft(grid.shape).apply(p, symbol)
-    X, Y = np.meshgrid(*grid.axes, indexing="ij")
-    f = X**2 + Y**2
-    act = p > 0
-    if not act.any():
-        return float("inf")
-    d = float(np.mean((f + w)[act]))
-    g = f + w - d
-    scale = max(abs(d), 1e-300)
-    gap = float(np.max(np.abs(g[act]))) / scale
-    pen = float(max(0.0, -g[~act].min(initial=0.0))) / scale
-    load = abs(float(np.sum(p)) * grid.cell - P) / P
-    return max(gap, pen, load)
-
-
 def tamaas_surface_runner(grid: Grid, P: float, symbol: np.ndarray | None = None,
                           tol: float = RTOL):
     """tamaas' PKR on a basic_2d model (E* = 4: Westergaard's compliance is 1/(2|k|)), its own
@@ -667,23 +678,6 @@ def tamaas_surface_runner(grid: Grid, P: float, symbol: np.ndarray | None = None
     shape, lengths = grid.shape, grid.lengths
     X, Y = np.meshgrid(*grid.axes, indexing="ij")
     heights = -(X**2 + Y**2)
-    fft = get_rfft(shape)
-
-    class SymbolOperator(tm.IntegralOperator):
-        def __init__(self, model):
-            super().__init__(model)
-
-        def apply(self, inp, out):
-            out[...] = fft.apply(np.asarray(inp).reshape(shape), symbol).reshape(out.shape)
-
-        def getKind(self):
-            return tm.IntegralOperator.neumann
-
-        def getType(self):
-            return tm.model_type.basic_2d
-
-        def updateFromModel(self):
-            pass
 
     def run():
         tm.set_log_level(tm.LogLevel.error)
@@ -692,7 +686,7 @@ def tamaas_surface_runner(grid: Grid, P: float, symbol: np.ndarray | None = None
         solver = tm.PolonskyKeerRey(model, heights, tol)
         op = None
         if symbol is not None:  # (kept referenced: tamaas holds only its C++ part)
-            op = SymbolOperator(model)
+            op = tamaas_operator(model, shape, symbol)
             model.operators["spectral_contact_symbol"] = op
             solver.setIntegralOperator("spectral_contact_symbol")
         solver.max_iter = 100000
@@ -709,7 +703,6 @@ def contactmechanics_surface_runner(grid: Grid, P: float, film: bool, d_scale: f
                                     p_scale: float, tol: float = RTOL):
     """ContactMechanics' constrained CG on the 2D grid: its layer (film) or half-space."""
     from ContactMechanics import PeriodicFFTElasticHalfSpace
-    from ContactMechanics.Optimization import constrained_conjugate_gradients
 
     shape, lengths = grid.shape, grid.lengths
     if film:
@@ -719,17 +712,16 @@ def contactmechanics_surface_runner(grid: Grid, P: float, film: bool, d_scale: f
         sub = PeriodicFFTElasticHalfSpace(shape, 4.0, physical_sizes=lengths)
     X, Y = np.meshgrid(*grid.axes, indexing="ij")
     heights = -(X**2 + Y**2)
-    kw = dict(external_force=P, pentol=tol * d_scale,
-              forcetol=tol * p_scale * sub.area_per_pt, thermotol=tol, maxiter=100000)
+    return _cm_run(sub, heights, P, d_scale, p_scale, tol, shape)
 
-    def run():
-        t = time.perf_counter()
-        res = constrained_conjugate_gradients(sub, heights, **kw)
-        dt = time.perf_counter() - t
-        return {"p": np.asarray(res.jac).reshape(shape) / sub.area_per_pt, "t": dt,
-                "its": int(res.nit), "cost": int(res.nfev),
-                "note": "" if res.success else "not converged"}
-    return run
+
+def _surface_pair_time(n: int, sym) -> float:
+    """Median time [s] of one planned 2D rfft/irfft pair with ``sym`` on n x n."""
+    from ._common import median_time
+
+    f2 = get_rfft((n, n))
+    a = np.random.default_rng(0).random((n, n))
+    return median_time(lambda: f2.apply(a, sym), 11, warm=True)
 
 
 def surface_comparison(exps=SURFACE_EXPS, level: float = LEVEL, repeats: int = 5,
@@ -784,44 +776,9 @@ def surface_comparison(exps=SURFACE_EXPS, level: float = LEVEL, repeats: int = 5
                 solvers["tamaas PKR 2D (half-space operator from Python)"] = (
                     "tamaas", lambda tol, grid=grid, sym=sym:
                     tamaas_surface_runner(grid, P, sym, tol))
-            chosen, lines = {}, {}
-            for name, (pkg, make) in solvers.items():
-                version = "this" if pkg == "this" else versions[pkg]
-                if pkg != "this" and not present(versions, pkg):
-                    lines[name] = {"version": version, "status": "not measured (peer not installed)"}
-                    continue
-                tol, run, err, exc = _loosest_meeting(make, p_ref, level)
-                if tol is None:
-                    why = f"; last failure {type(exc).__name__}: {exc}"[:100] if exc else ""
-                    lines[name] = {"version": version, "dp_ref": err,
-                                   "status": f"not measured (best {err:.1e} > {level:g}{why})"}
-                    continue
-                chosen[name] = run
-                lines[name] = {"version": version, "tol": tol, "dp_ref": err, "status": "timed"}
-            res = time_round_robin(chosen, repeats, stat="median") if chosen else {}
-            from ._common import median_time
-
-            f2 = get_rfft((n, n))
-            a = np.random.default_rng(0).random((n, n))
-            pair = median_time(lambda f2=f2, a=a, sym=sym: f2.apply(a, sym), 11, warm=True)
-            t0 = res[OURS_FIXED]["t"] if OURS_FIXED in res else float("nan")
-            for name, line in lines.items():
-                row = {"operator": operator, "N": n, "L_h": L, "solver": name,
-                       "version": line["version"], "tol": line.get("tol", float("nan")),
-                       "dp_ref": line.get("dp_ref", float("nan")), "residual": float("nan"),
-                       "iterations": "-", "fft_pairs": "-", "time_ms": float("nan"),
-                       "time_ratio": float("nan"), "time_in_fft_pairs": float("nan"),
-                       "fft_pair_us": 1e6 * pair, "status": line["status"]}
-                if name in res:
-                    x = res[name]
-                    row.update(residual=surface_residual(grid, x["p"], P, sym),
-                               iterations=x["its"], fft_pairs=x["cost"], time_ms=1e3 * x["t"],
-                               time_ratio=x["t"] / t0, time_in_fft_pairs=x["t"] / pair)
-                rows.append(row)
-            if log:
-                log(f"  surface {operator} {n}^2: " + "; ".join(
-                    f"{r_['solver']} {r_['time_ratio']:.3g}x" for r_ in rows[-len(lines):]
-                    if r_["solver"] != OURS_FIXED))
+            rows += _equal_accuracy(operator, grid, P, sym, solvers, p_ref, level, repeats,
+                                    versions, lambda n=n, sym=sym: _surface_pair_time(n, sym),
+                                    f"  surface {operator} {n}^2: ", log)
     return rows
 
 
@@ -856,23 +813,9 @@ def surface_cpu_check(n: int = 1024, tol: float = 1e-9, operator: str = "film") 
 def surface_targets(rows: list[dict], level: float = LEVEL) -> list[dict]:
     """Issue 25's peer target from ``surface_comparison`` rows: at each N and operator, tamaas'
     fastest configuration's time / ours >= SURFACE_SPEEDUP (ContactMechanics reported too)."""
-    out = []
-    groups = {}
-    for r_ in rows:
-        if r_["solver"] != OURS_FIXED:
-            groups.setdefault((r_["operator"], r_["N"], r_["solver"].split()[0]), []).append(r_)
-    for (operator, n, peer), rs in groups.items():
-        name = (f"surface: vs {peer} {operator} {n}^2 (frictionless sphere, same grid, p to "
-                f"{level:g} p_max): peer time / our time")
-        timed = [r_ for r_ in rs if r_["status"] == "timed"]
-        if timed:
-            ratio = min(r_["time_ratio"] for r_ in timed)
-            status = "met" if ratio >= SURFACE_SPEEDUP else "not met"
-        else:
-            ratio, status = float("nan"), rs[0]["status"]
-        out.append({"target": name, "measured": ratio, "limit": SURFACE_SPEEDUP,
-                    "unit": "x (>= limit)", "status": status})
-    return out
+    return _targets(rows, SURFACE_SPEEDUP, lambda operator, n, peer: (
+        f"surface: vs {peer} {operator} {n}^2 (frictionless sphere, same grid, p to {level:g} "
+        f"p_max): peer time / our time"))
 
 
 def _surfaces(args, out, versions) -> int:

@@ -7,9 +7,10 @@ wall time (time.perf_counter) and CPU time (time.process_time), the FFT pairs, a
 (the solver's metric: max relative difference of a, x_c (over a), d, p_max) against the Abel
 method at tol 1e-10, with the solver's error estimate beside it.  ``--before ROOT`` also loads
 the package under ROOT/spectral_contact (another checkout, e.g. ``git worktree add /tmp/b main``)
-under another name and interleaves its runs with this one's (the same load on a shared machine
-for both: the ratio is the figure to quote).  On a loaded machine the absolute times are not the
-targets' (issue 13: <= 3 ms on a quiet core); rerun quiet.  Writes speed_paper_scene.csv.
+under another name and interleaves its runs with this one's, alternating which goes first (the
+same load on a shared machine for both: the ratio is the figure to quote).  On a loaded machine
+the absolute times are not the targets' (issue 13: <= 3 ms on a quiet core); rerun quiet.
+Writes speed_paper_scene.csv.
 """
 from __future__ import annotations
 
@@ -67,13 +68,15 @@ def main(argv=None) -> int:
         m.solve()
         m.solve()
     gc.disable()
+    order = list(versions.items())
     try:
         for _ in range(runs):
-            for k, m in versions.items():  # interleaved
+            for k, m in order:  # interleaved
                 c0, t0 = time.process_time(), time.perf_counter()
                 last[k] = m.solve()
                 wall[k].append(time.perf_counter() - t0)
                 cpu[k].append(time.process_time() - c0)
+            order.reverse()  # each version first in every other run: no position effect
     finally:
         gc.enable()
     rows = []
@@ -91,8 +94,10 @@ def main(argv=None) -> int:
     table(rows, out / "speed_paper_scene.csv",
           "paper scene, solve() (FFT, tol 1e-4), warm medians; true error against abel tol 1e-10")
     if "before" in wall:
+        per_run = statistics.median(a / b for a, b in zip(cpu["this"], cpu["before"]))
         print(f"this / before: wall {rows[0]['wall_ms'] / rows[1]['wall_ms']:.3f}, "
-              f"cpu {rows[0]['cpu_ms'] / rows[1]['cpu_ms']:.3f}")
+              f"cpu {rows[0]['cpu_ms'] / rows[1]['cpu_ms']:.3f} (median of the runs' own "
+              f"ratios {per_run:.3f})")
     return 0
 
 

@@ -244,7 +244,7 @@ CASES = [
     (["onset", "--steps", "2", "--json", "--profiles", "o.csv", "--plot", "o.png"], {0}, "onset"),
     (["onset", "--mu", "1e-300", "--steps", "2"], {2}, "onset vanishing mu"),
     (["onset", "--indenter", "sphere", "--mu", "-5e-324"], {2}, "onset subnormal mu, sphere"),
-    (["onset", "--mu", "0.03", "--steps", "4"], {0, 3}, "onset small mu, frictional loading"),
+    (["onset", "--mu", "0.03", "--steps", "4"], {0}, "onset small mu, frictional loading"),
     (["onset", "--steps", "0"], {2}, "onset no step"),
     (["onset", "--steps", "2.5"], {2}, "onset fractional steps"),
     (["onset", "--amplitude", "nan"], {2}, "onset NaN amplitude"),

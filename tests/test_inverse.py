@@ -229,9 +229,10 @@ def test_positive_and_support(amontons):
 
 def test_auto_prior_keeps_the_higher_evidence():
     """``prior="auto"`` (the default) fits both priors to the same data and keeps the one of
-    higher log-evidence; a contact prior whose window search fails (it did on the example U
-    profile: a window beyond the record's edge) is reported, and the envelope's answer recovers
-    the example's P_L = 200 N/m."""
+    higher log-evidence; a contact prior whose window search fails is reported (it did on the
+    example U profile, mu = 2, before the first pass scanned windows: every start went to a
+    window beyond the record's edge); on the example the contact prior now wins (by ~100
+    nats) and recovers P_L = 200 N/m and Q/P = 2."""
     from pathlib import Path
 
     example = Path(__file__).resolve().parents[1] / "examples" / "synthetic_sliding_profile.csv"
@@ -243,3 +244,36 @@ def test_auto_prior_keeps_the_higher_evidence():
     assert (c["contact_failed"] is None) == (les["contact"] is not None)
     assert abs(inv.load_N_per_m - 200.0) < 3 * inv.load_sigma_N_per_m
     assert abs(inv.Q_over_P - 2.0) < 3 * inv.Q_over_P_sigma + 0.01
+    assert c["contact_failed"] is None and c["chosen"] == "contact"
+
+
+def test_text_summary_gives_the_laws_reason(tmp_path, capsys):
+    """When no law is fitted the text summary says why (the JSON's laws.note), not 'None'."""
+    rng = np.random.default_rng(1)
+    x = np.arange(-10e-3, 10e-3 + 1e-9, 0.2e-3)
+    f = tmp_path / "flat.csv"
+    _write(f, "x_m,base_sigma_zz_Pa,base_sigma_xz_Pa",
+           zip(x, -100 * rng.standard_normal(x.size), 100 * rng.standard_normal(x.size)))
+    assert main(["invert", str(f)]) == 0
+    out = capsys.readouterr().out
+    line = [ln for ln in out.splitlines() if "best law" in ln][0]
+    assert "None" not in line and "resolved" in line
+
+
+def test_auto_screen_does_not_skip_a_winning_envelope(amontons):
+    """``auto`` fits the envelope prior on its own nodes unless its cheap screen (nodes every
+    h/2) is more than SCREEN_NATS below the contact prior's evidence.  On a noise-free record
+    the envelope wins (by its noise floor, ~1500 nats): the screen must pass it on, and the
+    full envelope fit is the one kept; on a noisy record the contact prior wins and the
+    screen's evidence is reported below the contact's."""
+    from spectral_contact.instruments.inverse import SCREEN_NATS
+
+    zz, xz = _record(amontons, 0.0, 0)
+    c = invert_line(X, zz, xz).record["regularisation"]["prior_choice"]
+    assert c["chosen"] == "envelope" and c["envelope_screened"] is None
+    assert c["log_evidence_envelope"] > c["log_evidence_contact"]
+    zz, xz = _record(amontons, 0.01, 3)
+    c = invert_line(X, zz, xz).record["regularisation"]["prior_choice"]
+    assert c["chosen"] == "contact"
+    if c["envelope_screened"] is not None:
+        assert c["log_evidence_envelope"] < c["log_evidence_contact"] - SCREEN_NATS

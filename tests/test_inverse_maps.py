@@ -135,9 +135,10 @@ def test_round_trip_bands(noisy):
 
 def test_noise_free_recovery():
     """Noise-free maps of a smooth field (width h, no edge): recovered to 1 % (L2), and the
-    resolution length is below the field's width."""
+    resolution length is below the field's width.  (The smooth prior's case, asked for: the
+    contact prior and the choice between the two are tested in test_inverse_maps_contact.)"""
     (p, qx, qy), d = _maps(0.0, 0, smooth=True)
-    inv = im.invert_maps(XS, XS, *d, thickness=H)
+    inv = im.invert_maps(XS, XS, *d, thickness=H, prior="smooth")
     for f, t in ((inv.pressure_Pa, p), (inv.shear_x_Pa, qx), (inv.shear_y_Pa, qy)):
         assert np.linalg.norm(f - t) < 0.01 * np.linalg.norm(p)
     assert inv.summary()["resolution_length_m"] < H
@@ -195,7 +196,7 @@ def test_y_invariant_equals_line():
 
 def test_sensor_view():
     """S maps through the paper's 2D apparatus functions: the totals are kept (unit integrals)
-    and recovered."""
+    and recovered (the smooth prior, asked for: the forward map is what this tests)."""
     from spectral_contact.instruments.sensor import _resolve
 
     (p, qx, qy), d = _maps(0.0, 0, smooth=True)
@@ -204,7 +205,7 @@ def test_sensor_view():
     grid = Grid((n, n), (n * step, n * step))
     S = [np.fft.irfft2(np.fft.rfft2(f) * g.transform(grid.kmag), s=(n, n))
          for f, g in zip(d, (gzz, gxz, gxz))]
-    inv = im.invert_maps(XS, XS, *S, thickness=H, view="sensor")
+    inv = im.invert_maps(XS, XS, *S, thickness=H, view="sensor", prior="smooth")
     r = inv.summary()
     assert r["force_N"] == pytest.approx(p.sum() * step**2, rel=1e-3)
     assert r["tangential_force_x_N"] == pytest.approx(qx.sum() * step**2, rel=1e-3)

@@ -241,3 +241,22 @@ def test_study_quick(tmp_path):
     for name in ("onset_signature.csv", "onset_loading.csv", "onset_speed.csv",
                  "onset_stick.png", "onset_paper.png"):
         assert (tmp_path / name).exists()
+
+
+def test_entry_motion_of_nodes_coming_into_contact():
+    """A node out of contact whose gap closes in the next step moved freely, relative to the
+    indenter, for the fraction theta of the step before it touched (the gap continued
+    linearly, theta clipped to [0, 1]; 1 when it is not closing: it touched at the step's
+    end): that motion is theta times the last step's delta - u; 0 on contact nodes."""
+    from spectral_contact.numerics.partial_slip import SlipState, entry_motion
+
+    f = np.zeros(4)
+    s0, s1 = SlipState.unloaded(4), SlipState.unloaded(4)
+    s0.w = np.array([0.0, 2.0, 3.0, 1.0])   # gaps f - d + w at s0: 0, 2, 3, 1
+    s1.w = np.array([0.0, 0.5, 2.5, 1.5])   # at s1: 0, 0.5 (closing 1.5), 2.5 (closing 0.5),
+    s0.contact = np.array([True, False, False, False])  # 1.5 (opening)
+    s1.contact = s0.contact.copy()
+    s0.delta, s1.delta = 0.0, 1.0
+    s1.u = np.array([0.0, 0.2, 0.4, 0.6])
+    e = entry_motion(f, s0, s1)
+    assert np.allclose(e, [0.0, (0.5 / 1.5) * 0.8, 1.0 * 0.6, 1.0 * 0.4])

@@ -127,5 +127,6 @@ def _invert_text(args, rec, view) -> str:
         from ..instruments.inverse_laws import law_lines
 
         lines += law_lines(laws)
-        lines.append(f"  best law (AIC): {laws.get('best')}")
+        lines.append(f"  best law (AIC): {laws['best']}" if laws.get("best")
+                     else f"  best law (AIC): none ({laws.get('note', 'no law could be fitted')})")
         return "\n".join(lines)

@@ -18,8 +18,7 @@ def cmd_invert_maps(args) -> int:
     from ..physics.scene import check_poisson
 
     check_poisson(args.poisson)
-    for opt, given in (("--positive", args.positive), ("--support", args.support is not None),
-                       ("--prior", args.prior != "auto")):
+    for opt, given in (("--positive", args.positive), ("--support", args.support is not None)):
         if given:
             raise InputError(f"{opt}: not available for maps ({args.record}); line records only")
     outputs = plan_outputs(inputs={"FILE": args.record, "--apparatus-zz": args.apparatus_zz,
@@ -32,7 +31,7 @@ def cmd_invert_maps(args) -> int:
         raise InputError(f"{opt}: {args.record} holds base stresses (no apparatus); drop the "
                          f"option or give the S maps")
     inv = invert_maps(x, y, zz, xz, yz, thickness=args.thickness, poisson=args.poisson,
-                      view=view, apparatus=apparatus)
+                      view=view, apparatus=apparatus, prior=args.prior)
     rec = inv.summary()
     rec["input"] = str(args.record)
 
@@ -55,9 +54,11 @@ def _text(args, rec, view) -> str:
         f"  Q_x = {rec['tangential_force_x_N']:.5g} +- {rec['tangential_force_x_sigma_N']:.2g} N, "
         f"Q_y = {rec['tangential_force_y_N']:.3g} +- {rec['tangential_force_y_sigma_N']:.2g} N, "
         f"Q_x/F = {rec['Q_over_P']:.4g} +- {rec['Q_over_P_sigma']:.2g}",
-        f"  resolution {rec['resolution_length_m'] * mm:.3g} mm; prior Matern nu = "
-        f"{reg['smoothness_nu']:g}, lengths p {reg['length_p_m'] * mm:.3g} mm, q "
-        f"{reg['length_q_m'] * mm:.3g} mm",
+        f"  resolution {rec['resolution_length_m'] * mm:.3g} mm; prior "
+        f"{reg['prior_choice']['chosen']} (by evidence: "
+        + ", ".join(f"{k} {v:.1f}" for k, v in reg["prior_choice"]["log_evidence"].items())
+        + f"), Matern nu = {reg['smoothness_nu']:g}, lengths p {reg['length_p_m'] * mm:.3g} mm, "
+        f"q {reg['length_q_m'] * mm:.3g} mm",
         f"  noise sd zz {rec['noise_sd_zz_Pa']:.3g} Pa, xz {rec['noise_sd_xz_Pa']:.3g} Pa, "
         f"yz {rec['noise_sd_yz_Pa']:.3g} Pa (by evidence; log-evidence "
         f"{rec['log_evidence']:.2f})"]

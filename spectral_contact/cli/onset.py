@@ -35,7 +35,7 @@ _NOTES = {
 
 def register(subparsers) -> None:
     """Add ``onset`` to the main parser's subcommands."""
-    from ..solvers.onset import DEFAULT_TOL, LOADINGS, MAX_STEPS
+    from ..solvers.onset import DEFAULT_TOL, LOADING_STEPS, LOADINGS, MAX_STEPS
     from .scene_options import add_scene_options
 
     p = subparsers.add_parser(
@@ -51,8 +51,8 @@ def register(subparsers) -> None:
     p.add_argument("--loading", choices=LOADINGS, default="frictional",
                    help="frictional: the normal load applied with Coulomb friction acting "
                         "(default); frictionless: a lubricated approach (q = 0 at Q = 0)")
-    p.add_argument("--loading-steps", type=int, default=10,
-                   help="steps of the frictional normal loading (default 10)")
+    p.add_argument("--loading-steps", type=int, default=LOADING_STEPS,
+                   help=f"steps of the frictional normal loading (default {LOADING_STEPS})")
     p.add_argument("--amplitude", type=float, default=1.0,
                    help="largest Q/(mu P), in (0, 1] (default 1: up to gross sliding)")
     p.add_argument("--cycle", action="store_true",

@@ -27,20 +27,22 @@ multiple of the same profile (a local mu varying across the contact) + a constan
 interval), the amplitudes, lengths, mu0 and the two noise sd (one per data component, white,
 Gaussian) maximise the evidence (the marginal likelihood, closed form, analytic gradient); none
 is set by hand.  Two passes: nodes every h/4 over the record +- ``MARGIN_H`` h to place the
-window (three starts), then nodes every h/16 on the window +- 1.5 h (the tractions are zero
-beyond: the prior's statement), with a scan of each edge against a second maximum of the
-evidence.  ``prior="envelope"``: the previous prior (Matern-1/2 processes inside an
-evidence-placed logistic envelope, nodes every h/8 over the record +- ``MARGIN_H`` h), kept for
-tractions that are not a contact's (no square-root edges).  The evidence can have two maxima of
-nearly equal height (a rigid p with the shape's detail in the varying-mu part, or a flexible p
-with a smooth mu): the second pass is restarted from a flexible and a rigid p, and the posteriors
-of the distinct maxima within 5 nats of the best are mixed with weights exp(log-evidence)
-(``regularisation.evidence_maxima``); one maximum alone gave 2-sd coverage of p near 0.5 on the
-varying-mu records.
+window (the evidence on a grid of windows, one local search from the best, an edge scan), then
+nodes every h/16 on the window +- 0.75 h (the tractions are zero beyond: the prior's
+statement), with a scan of each edge against a second maximum of the evidence.
+``prior="envelope"``: the previous prior (Matern-1/2 processes inside an evidence-placed
+logistic envelope, nodes every h/8 over the record +- ``MARGIN_H`` h), kept for tractions that
+are not a contact's (no square-root edges).  The evidence can be nearly flat in p's length l_p
+over a factor 10 (a rigid p with the shape's detail in the varying-mu part, or a flexible p with
+a smooth mu), and the window moves with l_p: l_p is integrated on the evidence's profile (l_p
+stepped by 0.5 in its log, the other hyperparameters re-maximised at each step; the points
+within 5 nats of the best mixed with weights exp(log-evidence), ``regularisation.
+evidence_maxima``); one maximum alone gave 2-sd coverage of p near 0.5 on the varying-mu
+records, two restarts (a rigid and a flexible p) 0.60, the profile 0.71 (studies/README).
 
 Posterior.  Gaussian given the hyperparameters; with ``hyper=True`` (default, contact prior)
-the hyperparameters' own uncertainty is added to first order (Laplace: S + J Sigma_theta J^T,
-``inverse_prior.propagate``).  From it:
+the other hyperparameters' own uncertainty is added to first order at each profile point
+(Laplace: S + J Sigma_theta J^T, ``inverse_prior.propagate``).  From it:
 
 * P = Int p dx, Q = Int q dx (the hat functions integrate to dt) and Q/P, with sigmas from the
   covariance (Q/P by the first-order (delta) rule with the P-Q correlation);
@@ -145,6 +147,39 @@ def _regularisation(prior, theta, free, scale, h, hyper):
             "hyperparameter_uncertainty": "not propagated"}
 
 
+SCREEN_STEP_H = 0.5
+"""Node step [h] of the envelope prior's screen under ``prior="auto"``: its log-evidence on
+nodes every h/2 was within 0.1-2.2 nats of that on its own h/8 nodes on 8 calibration records
+(and h/4 within 0.5), at a tenth of the cost (studies/README, inverse, speed)."""
+SCREEN_NATS = 10.0
+"""Under ``prior="auto"`` the envelope prior is fitted on its own nodes only if its screen's
+log-evidence comes within this of the contact prior's (else the contact prior is kept: the
+envelope's evidence cannot reach it with the screen's error)."""
+
+
+def _envelope_screen(x_m, zz_Pa, xz_Pa, thickness, poisson, view, apparatus, support):
+    """The envelope prior's maximum log-evidence (in the units of ``invert_line``'s
+    ``log_evidence``) on nodes every ``SCREEN_STEP_H`` h, or None where it cannot be
+    evaluated."""
+    from .sensor import _resolve
+
+    h = float(thickness)
+    x, dz, dxz = _check_record(x_m, zz_Pa, xz_Pa)
+    x, dz, dxz, _ = _bin(x, dz, dxz, BIN_STEP_H * h)
+    scale = max(float(np.max(np.abs(dz))), float(np.max(np.abs(dxz))))
+    symbols = _symbols(_resolve(apparatus) if view == "sensor" else None, h)
+    sup_h = None if support is None else (float(support[0]) / h, float(support[1]) / h)
+    try:
+        fwd = LineForward.build(x / h, Film(1.0, poisson), symbols, support=sup_h,
+                                step=SCREEN_STEP_H)
+        ev = _Evidence(fwd, dz / scale, dxz / scale, envelope=sup_h is None)
+        _, le, _ = _optimise(ev, dz / scale, dxz / scale, fwd.nodes[1] - fwd.nodes[0],
+                             ftol=1e-7, gtol=1e-2)
+    except (ValueError, ArithmeticError, np.linalg.LinAlgError):
+        return None
+    return float(le - 2 * x.size * math.log(scale)) if math.isfinite(le) else None
+
+
 BIN_STEP_H = 1.0 / 32.0
 """Records sampled finer than this [h] are averaged in consecutive groups of k samples (k the
 largest with k dx <= BIN_STEP_H h) before the inversion: for white noise the group means carry
@@ -164,6 +199,13 @@ def _bin(x, zz, xz, step):
             xz[:n].reshape(-1, k).mean(axis=1), k)
 
 
+PROPAGATE_MIN_WEIGHT = 0.05
+"""Profile points of smaller weight enter the mixture at their hyperparameters (no Laplace step
+for the others: it costs 2 d evaluations of the evidence with the gradient, and these points
+carry 5-10 % of the weight together); their window's edge sd is the weighted mean of the
+propagated points'."""
+
+
 def _mix_modes(ev, modes, free, hyper, h, known):
     """Posterior mean and covariance mixed over the evidence's maxima (weights exp(log-evidence),
     normalised), each with its hyperparameters' uncertainty propagated when ``hyper``; the
@@ -172,11 +214,14 @@ def _mix_modes(ev, modes, free, hyper, h, known):
     wts = np.exp(les - les.max())
     wts /= wts.sum()
     means, covs, windows = [], [], []
-    for th, _ in modes:
+    held = free.copy()
+    if len(modes) > 1:  # l_p is integrated by the profile's points (``inverse_prior._modes``)
+        held[3] = False
+    for (th, _), wt in zip(modes, wts):
         _, (mk, ck, _) = ev.evaluate(th, full=True)
         sig, idx = None, []
-        if hyper:
-            mk, ck, sig, idx = propagate(ev, th, free, mk, ck)
+        if hyper and (wt >= PROPAGATE_MIN_WEIGHT or len(modes) == 1):
+            mk, ck, sig, idx = propagate(ev, th, held, mk, ck)
         means.append(mk)
         covs.append(ck)
         windows.append(_window_interval(th, sig, idx, h, known))
@@ -264,22 +309,35 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
     if prior == "auto":
         kw = dict(thickness=thickness, poisson=poisson, view=view, apparatus=apparatus,
                   positive=positive, support=support, draws=draws, seed=seed, hyper=hyper)
-        env = invert_line(x_m, zz_Pa, xz_Pa, prior="envelope", **kw)
         try:
             con = invert_line(x_m, zz_Pa, xz_Pa, prior="contact", **kw)
             failed = None if math.isfinite(con.record["log_evidence"]) else "log-evidence not finite"
+        except InputError:
+            raise
         except (ValueError, IndexError, ArithmeticError, np.linalg.LinAlgError) as exc:
-            # (an InputError is a ValueError too, but the envelope fit above has passed the
-            # same checks: what fails here is the contact prior's window search)
+            # what fails here is the contact prior's window search, not the record's checks
             con, failed = None, f"{type(exc).__name__}: {exc}"
-        best = env if con is None or env.record["log_evidence"] > con.record["log_evidence"] \
-            else con
+        screen = None
+        if con is not None and failed is None:
+            screen = _envelope_screen(x_m, zz_Pa, xz_Pa, thickness, poisson, view, apparatus,
+                                      support)
+        if screen is not None and screen < con.record["log_evidence"] - SCREEN_NATS:
+            best, le_env = con, screen
+        else:
+            env = invert_line(x_m, zz_Pa, xz_Pa, prior="envelope", **kw)
+            le_env, screen = env.record["log_evidence"], None
+            best = env if con is None or failed or le_env > con.record["log_evidence"] else con
         best.record["regularisation"]["prior_choice"] = {
             "rule": "the prior of higher log-evidence on the same data (equal prior odds)",
             "log_evidence_contact": None if con is None else con.record["log_evidence"],
-            "log_evidence_envelope": env.record["log_evidence"],
+            "log_evidence_envelope": le_env,
+            "envelope_screened": (None if screen is None else
+                                  f"the envelope's evidence on nodes every {SCREEN_STEP_H:g} h "
+                                  f"(within ~2 nats of its h/8 nodes' on the calibration "
+                                  f"records) is more than {SCREEN_NATS:g} nats below the "
+                                  f"contact's: not refitted on h/8 nodes"),
             "contact_failed": failed,
-            "chosen": "envelope" if best is env else "contact"}
+            "chosen": "contact" if best is con else "envelope"}
         return best
     from ..physics.scene import check_poisson, check_positive
 
@@ -355,6 +413,10 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
         # the contact interval is the prior's window, with its Laplace sd
         e = np.array([w[0] for w in windows])
         v = np.array([w[1] for w in windows]) ** 2
+        for i in (0, 1):  # points not propagated (PROPAGATE_MIN_WEIGHT): the others' mean
+            ok = np.isfinite(v[:, i])
+            if ok.any() and not ok.all():
+                v[~ok, i] = weights[ok] @ v[ok, i] / weights[ok].sum()
         ebar = weights @ e
         interval = [float(ebar[0]), float(ebar[1])]
         interval_sd = [float(math.sqrt(max(weights @ (v[:, i] + (e[:, i] - ebar[i]) ** 2), 0.0)))
@@ -375,6 +437,10 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
     idx = np.nonzero(resolved & inside)[0]
     laws = fit_laws(p[idx], q[idx], cov_si[np.ix_(idx, idx)], cov_si[np.ix_(m + idx, m + idx)],
                     cov_si[np.ix_(idx, m + idx)])
+    if "note" in laws:  # say which nodes count, so that the text and JSON give the reason
+        laws["note"] += (f" (the fits use nodes where p > {RESOLVED_Z:g} sd(p), at least "
+                         f"{LAW_EDGE_GUARD:g} resolution lengths inside the contact interval; "
+                         f"{int(resolved.sum())} of {m} nodes have p > {RESOLVED_Z:g} sd)")
     fz, fx = fwd.apply(mean[:m], mean[m:])
     rec = {"load_N_per_m": P, "load_sigma_N_per_m": math.sqrt(max(vP, 0.0)),
            "tangential_load_N_per_m": Q, "tangential_load_sigma_N_per_m": math.sqrt(max(vQ, 0.0)),

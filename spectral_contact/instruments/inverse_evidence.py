@@ -39,6 +39,81 @@ def _logistic(u):
     return 0.5 * (1.0 + np.tanh(0.5 * u))
 
 
+def _statistics(ev, fwd, dz, dx):
+    """The record's sufficient statistics for a Gaussian prior on the nodal tractions, set on
+    ``ev``: G_c = M_c^T M_c, b_c = M_c^T d_c, e_c = |d_c|^2 (c = z, x), n, the nodes t and m."""
+    ev.fwd = fwd
+    Mz = np.hstack([fwd.Mzp, fwd.Mzq])
+    Mx = np.hstack([fwd.Mxp, fwd.Mxq])
+    ev.Gz, ev.Gx = Mz.T @ Mz, Mx.T @ Mx
+    ev.bz, ev.bx = Mz.T @ dz, Mx.T @ dx
+    ev.ez, ev.ex = float(dz @ dz), float(dx @ dx)
+    ev.n = dz.size
+    ev.t = fwd.nodes
+    ev.m = ev.t.size
+
+
+# --- the linear-Gaussian core shared by the envelope prior (here) and the contact prior
+# (``inverse_prior``): nodal tractions f ~ N(0, Lk Lk^T), data d = M f + white noise of sd
+# sigma_c per component c (zz, xz), summarised by H = sum_c M_c^T M_c / sigma_c^2 and
+# b = sum_c M_c^T d_c / sigma_c^2.
+
+def _gaussian_evidence(Lk, H, b, quad0, n, log_noise_sum, B=None):
+    """log-evidence, the Cholesky factor Lb of B = I + Lk^T H Lk (``B`` if given, without the
+    identity) and the posterior mean.  quad0 = sum_c |d_c|^2 / sigma_c^2; n samples per
+    component; log_noise_sum = log sigma_zz + log sigma_xz."""
+    if B is None:
+        B = Lk.T @ H @ Lk
+    B[np.diag_indices_from(B)] += 1.0
+    Lb = np.linalg.cholesky(B)
+    beta = Lk.T @ b
+    alpha = _cho(Lb, beta)
+    mean = Lk @ alpha
+    logdet = 2.0 * np.sum(np.log(np.diag(Lb)))
+    logev = (-0.5 * (quad0 - beta @ alpha) - 0.5 * logdet - n * log_noise_sum
+             - n * math.log(2.0 * math.pi))
+    return logev, Lb, mean
+
+
+def _posterior_covariance(Lb, Lk):
+    """S = Lk B^-1 Lk^T, the posterior covariance of the nodal tractions."""
+    from scipy.linalg import solve_triangular
+
+    Li = solve_triangular(Lb, Lk.T, lower=True)
+    return Li.T @ Li
+
+
+def _evidence_weight(H, b, mean, S):
+    """W with d logev = 1/2 tr(W dK) for a change dK of the prior covariance:
+    W = K^-1 (mean mean^T + S) K^-1 - K^-1 = Km Km^T - H + H S H, Km = K^-1 mean = b - H mean,
+    (K + H^-1)^-1 = H - H S H (Woodbury): no inverse of the (ill-conditioned) prior covariance."""
+    Km = b - H @ mean
+    W = np.outer(Km, Km) - H + (H @ S) @ H
+    return 0.5 * (W + W.T)
+
+
+def _noise_gradient(g, ks, ev, nz, nx, mean, S):
+    """d logev / d log sigma_c = -n + (|d_c - M_c mean|^2 + tr(G_c S)) / sigma_c^2 into g[k]
+    for the components (zz, xz) and indices ks of their log sd (statistics of ``ev``)."""
+    for k, G, bb, ee, sig in ((ks[0], ev.Gz, ev.bz, ev.ez, nz), (ks[1], ev.Gx, ev.bx, ev.ex, nx)):
+        rr = ee - 2.0 * mean @ bb + mean @ G @ mean + np.sum(G * S)
+        g[k] = -ev.n + rr / sig**2
+
+
+def _posterior(ev, Lk, lthl, nz, nx, log_noise_sum, grad, full):
+    """log-evidence and, if ``grad`` or ``full``, (mean, S, H, W) (W None without ``grad``) of
+    the record's statistics ``ev`` under the prior factor Lk and noise sd (nz, nx);
+    ``lthl(H)`` returns Lk^T H Lk (each prior by its own block structure)."""
+    H = ev.Gz / nz**2 + ev.Gx / nx**2
+    b = ev.bz / nz**2 + ev.bx / nx**2
+    logev, Lb, mean = _gaussian_evidence(Lk, H, b, ev.ez / nz**2 + ev.ex / nx**2, ev.n,
+                                         log_noise_sum, lthl(H))
+    if not (grad or full):
+        return logev, None
+    S = _posterior_covariance(Lb, Lk)
+    return logev, (mean, S, H, _evidence_weight(H, b, mean, S) if grad else None)
+
+
 # hyperparameters: log l_p, log l_q, log s_p, log s_q, log s_out, log sigma_zz, log sigma_xz,
 # c, log hw (envelope centre and half-width, h), log e (envelope edge width, h),
 # log r_p, log r_q (amplitudes of the rough edge component), log l_r (its length)
@@ -59,15 +134,7 @@ class _Evidence:
     support w = 1 on it, s_out is not used and the rough part has a uniform amplitude r_f."""
 
     def __init__(self, fwd: LineForward, dz, dx, envelope=True):
-        self.fwd = fwd
-        Mz = np.hstack([fwd.Mzp, fwd.Mzq])
-        Mx = np.hstack([fwd.Mxp, fwd.Mxq])
-        self.Gz, self.Gx = Mz.T @ Mz, Mx.T @ Mx
-        self.bz, self.bx = Mz.T @ dz, Mx.T @ dx
-        self.ez, self.ex = float(dz @ dz), float(dx @ dx)
-        self.n = dz.size
-        self.m = fwd.nodes.size
-        self.t = fwd.nodes
+        _statistics(self, fwd, dz, dx)
         self.envelope = envelope
         self.jitter = 1e-8
 
@@ -123,39 +190,22 @@ class _Evidence:
         C2 = np.zeros((2 * m, 2 * m))
         C2[:m, :m] = C2[m:, m:] = Cr
         K = s[:, None] * C * s[None, :] + e[:, None] * C2 * e[None, :]
-        H = self.Gz / nz**2 + self.Gx / nx**2
-        b = self.bz / nz**2 + self.bx / nx**2
         Lk = np.zeros_like(K)
         Lk[:m, :m] = np.linalg.cholesky(K[:m, :m])
         Lk[m:, m:] = np.linalg.cholesky(K[m:, m:])
         Lp, Lq = Lk[:m, :m], Lk[m:, m:]  # block-diagonal: Lk^T H Lk by blocks
-        HL = np.hstack([H[:, :m] @ Lp, H[:, m:] @ Lq])
-        B = np.vstack([Lp.T @ HL[:m], Lq.T @ HL[m:]])
-        B[np.diag_indices_from(B)] += 1.0
-        Lb = np.linalg.cholesky(B)
-        beta = Lk.T @ b
-        alpha = _cho(Lb, beta)
-        mu = Lk @ alpha
-        logdet = 2.0 * np.sum(np.log(np.diag(Lb)))
-        quad = self.ez / nz**2 + self.ex / nx**2 - beta @ alpha
-        n = self.n
-        logev = -0.5 * quad - 0.5 * logdet - n * (th[5] + th[6]) - n * math.log(2.0 * math.pi)
-        if not (grad or full):
-            return logev
-        from scipy.linalg import solve_triangular
 
-        Li = solve_triangular(Lb, Lk.T, lower=True)  # posterior covariance S = Li^T Li
-        S = Li.T @ Li
+        def lthl(H):
+            HL = np.hstack([H[:, :m] @ Lp, H[:, m:] @ Lq])
+            return np.vstack([Lp.T @ HL[:m], Lq.T @ HL[m:]])
+
+        logev, post = _posterior(self, Lk, lthl, nz, nx, th[5] + th[6], grad, full)
+        if post is None:
+            return logev
+        mu, S, H, W = post
         out = [logev]
         if grad:
             g = np.zeros(_NPAR)
-            # prior parameters: d logev = 1/2 tr(W dK), W = K^-1 (mu mu^T + S) K^-1 - K^-1
-            # = Km Km^T - (K + H^-1)^-1 with Km = K^-1 mu = b - H mu and (Woodbury)
-            # (K + H^-1)^-1 = H - H S H: no inverse of the (ill-conditioned) prior covariance
-            Km = b - H @ mu
-            HS = H @ S
-            W = np.outer(Km, Km) - H + HS @ H
-            W = 0.5 * (W + W.T)
             ss = s[:, None] * s[None, :]
             ee = e[:, None] * e[None, :]
             g[0] = 0.5 * np.sum(W[:m, :m] * dCp * ss[:m, :m])
@@ -165,11 +215,7 @@ class _Evidence:
             WC, WC2 = (W * C) @ s, (W * C2) @ e
             for k, (ds_, de_) in dsd.items():
                 g[k] = float(ds_ @ WC + de_ @ WC2)
-            # noise: d logev / d log sigma_c = -n + |r_c|^2 / sigma_c^2 + tr(G_c S) / sigma_c^2
-            for k, G, bb, ee, sig in ((5, self.Gz, self.bz, self.ez, nz),
-                                      (6, self.Gx, self.bx, self.ex, nx)):
-                rr = ee - 2.0 * mu @ bb + mu @ G @ mu + np.sum(G * S)
-                g[k] = -n + rr / sig**2
+            _noise_gradient(g, (5, 6), self, nz, nx, mu, S)
             out.append(g)
         if full:
             out.append((mu, S, H))
@@ -182,13 +228,6 @@ def _cho(L, y):
     return solve_triangular(L.T, solve_triangular(L, y, lower=True), lower=False)
 
 
-def _cho_inv(L):
-    from scipy.linalg import solve_triangular
-
-    Li = solve_triangular(L, np.eye(L.shape[0]), lower=True)
-    return Li.T @ Li
-
-
 def _noise_guess(d):
     """Noise sd from second differences (white noise: var(d2) = 6 sigma^2)."""
     d2 = np.diff(d, 2)
@@ -196,12 +235,10 @@ def _noise_guess(d):
                1e-6 * float(np.max(np.abs(d)) or 1.0))
 
 
-def _optimise(ev: _Evidence, dz, dx, dt):
+def _optimise(ev: _Evidence, dz, dx, dt, ftol=1e-10, gtol=1e-3):
     """Maximum of the log-evidence over the hyperparameters (L-BFGS-B with the analytic
     gradient, from the data's amplitude, a noise estimate from second differences and an
     envelope around the data's peak); returns (theta, log-evidence, free mask)."""
-    from scipy.optimize import minimize
-
     t = ev.t
     scale = max(float(np.max(np.abs(dz))), float(np.max(np.abs(dx))), 1e-300)
     nz0 = min(max(_noise_guess(dz), 1e-4 * scale), 0.3 * scale)
@@ -229,26 +266,38 @@ def _optimise(ev: _Evidence, dz, dx, dt):
                         math.log(0.5), math.log(0.2 * scale), math.log(0.2 * scale),
                         math.log(0.3)])
         th0 = np.clip(th0, lo, hi)
-
-        def f(z, th0=th0):
-            th = th0.copy()
-            th[free] = z
-            try:
-                v, g = ev.evaluate(th, grad=True)
-            except np.linalg.LinAlgError:
-                return 1e300, np.zeros(z.size)
-            if not np.isfinite(v):
-                return 1e300, np.zeros(z.size)
-            return -v, -g[free]
-
-        res = minimize(f, th0[free], jac=True, method="L-BFGS-B",
-                       bounds=list(zip(lo[free], hi[free])),
-                       options={"maxiter": 300, "ftol": 1e-10, "gtol": 1e-3})
-        th = th0.copy()
-        th[free] = res.x
-        if best is None or -res.fun > best[1]:
-            best = (th, -res.fun)
+        th, v = _maximise(ev, th0, free, lo, hi, maxiter=300, ftol=ftol, gtol=gtol)
+        if th is not None and (best is None or v > best[1]):
+            best = (th, v)
+    if best is None:
+        raise np.linalg.LinAlgError("the evidence could not be evaluated at the start")
     return best[0], best[1], free
+
+
+def _maximise(ev, th0, free, lo, hi, maxiter, ftol, gtol):
+    """The log-evidence ``ev.evaluate`` maximised over theta[free] within (lo, hi) from th0
+    (L-BFGS-B with the analytic gradient; a point where the evidence cannot be evaluated counts
+    as -inf).  Returns (theta, value) of the best point evaluated ((None, -inf) if none)."""
+    from scipy.optimize import minimize
+
+    seen = [None, -np.inf]
+
+    def f(z):
+        th = th0.copy()
+        th[free] = z
+        try:
+            v, g = ev.evaluate(th, grad=True)
+        except np.linalg.LinAlgError:
+            return 1e300, np.zeros(z.size)
+        if not np.isfinite(v):
+            return 1e300, np.zeros(z.size)
+        if v > seen[1]:
+            seen[:] = [th, v]
+        return -v, -g[free]
+
+    minimize(f, th0[free], jac=True, method="L-BFGS-B", bounds=list(zip(lo[free], hi[free])),
+             options={"maxiter": maxiter, "ftol": ftol, "gtol": gtol})
+    return seen[0], seen[1]
 
 
 def _positive(mean, cov, m):

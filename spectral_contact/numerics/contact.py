@@ -18,7 +18,9 @@ gap = f - d + w.
 
 ``solve_contact`` is the system around it: the film's compliance for friction mu as the
 operator, indenters (``physics.indenters``) giving heights and first guesses, each owning the
-nodes nearer to its apex than to any other (periodically).
+nodes nearer to its apex than to any other (periodically); a cold solve on a large grid starts
+from the half-resolution solution (``numerics.nested``).  The active-set steps' shortcuts
+(edges extrapolated in 1D, predicted releases in 2D) are in ``numerics.active_set``.
 """
 from __future__ import annotations
 
@@ -30,10 +32,17 @@ import numpy as np
 
 from ..errors import ConvergenceError
 from ..physics.film import Film
-from .edges import fit_edges
+from .active_set import (  # noqa: F401  (the active-set shortcuts, by their names here too)
+    _EXTRAP_STEPS,
+    _RELEASE_STEPS,
+    _release_kernel,
+    _released_tensile,
+    _shrunk_ends,
+)
 from .fft import get_rfft
 from .grid import Grid
 from .krylov import gmres
+from .nested import nested_guess, refine_nested
 from .operators import FourierOperator, tail_terms
 
 __all__ = ["ContactSolution", "solve_contact", "solve_complementarity", "compliance_operator",
@@ -54,51 +63,6 @@ _NESTED_FLOOR = {1: 2**13, 2: 64}  # and the chain of halvings goes down to this
 # 160 scenes (2^14, 2^16; loads 0.5-300, mu -1...5, three films, L 21.38 and 60): active-set
 # steps 2041 -> 1505, FFT pairs 33658 -> 25826.  (Before the extrapolation: 2^10, a cold
 # solve then cost ~10 steps at any N.)
-_EDGE_REACH = 0.15  # nested first set: the fine nodes within this many cells beyond the coarse
-# solution's fitted edges.  Measured (active-set steps of the whole chain, summed over 6 scenes,
-# loads 5-380 N/m, mu -1...2.6, cold at 2^20): reach 0: 111, 0.08: 105, 0.15: 99, 0.25: 104,
-# 0.35: 116
-_EDGE_REACH_2D = 0.15  # (the same in 2D, along rows and columns: see nested_guess)
-_EXTRAP_WEIGHT = 0.7  # the cold start's shrinking steps extrapolate the edges (_shrunk_ends)
-_EXTRAP_STEPS = 3  # this many times at most (then plain steps: they cannot cycle through them)
-_RELEASE_REACH = 2  # 2D: a step that sheds tensile nodes also sheds the nodes that the
-# release (and the step's added nodes) would turn tensile, predicted from the grid's own
-# compliance on the (2r+1)^2 nodes around each changed node (_released_tensile; issue 25).
-# Measured (sliding sphere mu 1, the public solve at 2048^2, the finest grid's first step: 34
-# nodes shed, 2 of their neighbours at p = +1.3e-3 p_max turned tensile, -7.5e-4, on the next
-# solve: a third step): predicted within 2e-5 p_max of the next solve's pressures at r = 2, 3
-# and 4 (r = 2: 5 x 5 patches)
-_RELEASE_STEPS = 3  # this many steps at most (then plain steps, as _EXTRAP_STEPS)
-_RELEASE_ROUNDS = 3  # predicted tensile nodes are released in turn this many times at most
-_SET_EDGE = 0.5  # a set's continuum edge, in cells beyond its end node.  Measured (cold, rtol
-# 1e-10, 72 scenes: N 2^10-2^13, loads 3.5-53, mu 0 and 1, the film and the half-space; active-
-# set steps, FFT pairs): plain 179, 2724; weight 0.7 edge 0.5 at most 3 times: 117-120, 1852-1872;
-# weight 1: 138, 2129 (more overshoot, two-set cycles undone by the union below); 2 times: 121
-
-
-def refine_nested(p: np.ndarray) -> np.ndarray:
-    """Linear interpolation of a periodic nodal field onto the grid of twice the points per
-    axis (nested: node j becomes node 2j), any number of dimensions; negative values (none
-    from a contact solve) are clipped."""
-    out = p
-    for axis in range(p.ndim):
-        shape = list(out.shape)
-        shape[axis] *= 2
-        fine = np.empty(shape)
-        even = [slice(None)] * p.ndim
-        odd = [slice(None)] * p.ndim
-        even[axis] = slice(0, None, 2)
-        odd[axis] = slice(1, None, 2)
-        fine[tuple(even)] = out
-        if p.ndim == 1:  # np.roll's values, without its overhead
-            nxt = np.empty_like(out)
-            nxt[:-1] = out[1:]
-            nxt[-1:] = out[:1]
-        else:
-            nxt = np.roll(out, -1, axis=axis)
-        fine[tuple(odd)] = 0.5 * (out + nxt)
-        out = fine
-    return np.maximum(out, 0.0)
 
 
 @dataclass
@@ -133,6 +97,254 @@ def compliance_operator(shape: tuple, lengths: tuple, mu: float, film: Film = Fi
                            low_rank=tails)
 
 
+class _Bodies:
+    """``solve_complementarity``'s problem, flattened: the heights ``f``, each node's body
+    ``owner``, the ``loads`` (``loaded``: > 0), the nodes that ``can_touch`` (loaded bodies,
+    finite heights: +inf where there is no body, e.g. beyond sharp ends), the operator ``op``
+    (its ``symbol`` S, the grid's cell and dimension) and this thread's transforms ``fft``."""
+
+    def __init__(self, op: FourierOperator, f, owner, loads):
+        shape = self.shape = op.grid.shape
+        self.op, self.cell, self.ndim = op, op.grid.cell, op.grid.ndim
+        self.f = f.ravel() if isinstance(f, np.ndarray) and f.shape == shape else \
+            np.broadcast_to(f, shape).ravel()
+        self.owner = owner.ravel() if isinstance(owner, np.ndarray) and owner.shape == shape \
+            else np.broadcast_to(owner, shape).ravel()
+        loads = self.loads = np.asarray(loads, dtype=float)
+        self.n = self.f.size
+        loaded = self.loaded = loads > 0
+        self.M = loads.size
+        self.can_touch = ((np.isfinite(self.f) if loaded[0] else np.zeros(self.n, dtype=bool))
+                          if self.M == 1 else loaded[self.owner] & np.isfinite(self.f))
+        self.touch_all = bool(self.can_touch.all())
+        self.fft = get_rfft(shape)  # this thread's plan, bound once (op.apply looks it up per call)
+        self.S = op.symbol
+
+    def first_set(self, p_init):
+        """The support of ``p_init`` where a body can touch; every loaded body a foothold (its
+        lowest node) if it has none."""
+        active = (np.asarray(p_init).ravel() > 0) & self.can_touch
+        f, owner, loaded = self.f, self.owner, self.loaded
+        if self.M == 1:
+            if loaded[0] and not active.any():
+                active[np.argmin(f)] = True
+        else:
+            for m in np.flatnonzero(loaded):
+                if not np.any(active & (owner == m)):
+                    active[np.flatnonzero(owner == m)[np.argmin(f[owner == m])]] = True
+        return active
+
+    def footholds(self, new, gap):
+        """Every loaded body keeps a node in the next set ``new`` (its most penetrated)."""
+        owner = self.owner
+        for m in (() if self.M == 1 and new.any() else np.flatnonzero(self.loaded)):
+            if not np.any(new & (owner == m)):
+                mine = np.flatnonzero(owner == m)
+                new[mine[np.argmin(gap[mine])]] = True
+
+
+class _OnSet:
+    """The bordered system on one active set (module docstring): its nodes (``sel``: a slice
+    when they are one contiguous run, the common 1D case, else the index array; ``ni`` of
+    them, ``own`` their bodies when several), the load rows' weights ``wload``, the
+    preconditioner ``Hinv``, GMRES's ``matvec``, ``psolve`` and fused ``step``, the right-hand
+    side ``b`` and the start ``v0`` (p on the set, then the indentations); ``last_w[0]`` holds
+    the sinking H p of the last matvec."""
+
+    def __init__(self, B: _Bodies, active, p, d, nfft: list):
+        idx = active.nonzero()[0]  # (np.flatnonzero of the flat array, without its wrapper)
+        self.own = own = B.owner[idx] if B.M > 1 else None
+        ni = self.ni = idx.size
+        # one contiguous run: a slice gathers and scatters the same elements as the index
+        # array, without fancy indexing
+        self.contiguous = bool(ni) and idx[-1] - idx[0] + 1 == ni
+        sel = self.sel = slice(int(idx[0]), int(idx[-1]) + 1) if self.contiguous else idx
+        self.fi = fi = B.f[sel]
+        self.wload, self.Hinv = _weights(B, ni, own, fi)
+        self.last_w = [None]
+        self.matvec, self.psolve, self.step = _operators(B, self, nfft)
+        loads, loaded, wload = B.loads, B.loaded, self.wload
+        if B.M == 1:  # the same values as the general concatenations below
+            b = np.empty(ni + 1)
+            np.negative(fi, out=b[:ni])
+            b[ni] = loads[0] * wload[0] if loaded[0] else 0.0
+            v0 = np.empty(ni + 1)
+            v0[:ni] = p[sel]
+            v0[ni] = d[0]
+        else:
+            b = np.concatenate([-fi, np.where(loaded, loads, 0.0) * wload])
+            v0 = np.concatenate([p[idx], d])
+        self.b, self.v0 = b, v0
+
+
+def _weights(B: _Bodies, ni: int, own, fi):
+    """(wload, Hinv): the weight of each load row, its right-hand side as large as the whole
+    gap block's (so GMRES's 2-norm stopping test controls the load as tightly as the gap), and
+    the preconditioner, the inverse symbol clipped below the lowest mode the largest contact
+    holds."""
+    cell, ndim, loads, loaded, M = B.cell, B.ndim, B.loads, B.loaded, B.M
+    gap_norm = math.sqrt(float(fi @ fi))  # np.linalg.norm's operations
+    if gap_norm < 1e-150:
+        # heights all zero on the set (one node at a smooth apex: a contact smaller than
+        # a cell): the load row weighted as the sinking it causes, ~ load / cell^(1 - 1/d)
+        # (a weight of 1e-300 let GMRES ignore the load: "residual 1.00e+00 after 1
+        # active-set and 1 GMRES iterations", issue 24)
+        gap_norm = max(float(np.abs(loads).max()) * cell ** (1.0 / ndim - 1.0)
+                       * math.sqrt(max(ni, 1)), 1e-300)
+    if M == 1 and ndim == 1:  # the same floating-point operations on Python floats
+        wload = np.array([gap_norm / loads[0] if loaded[0] else 1.0])
+        return wload, B.op.preconditioner(math.pi / (max(ni, 1) * cell))
+    extents = (np.array([max(ni, 1)]) if M == 1
+               else np.maximum(np.bincount(own, minlength=M), 1)) * cell
+    if ndim > 1:
+        extents = extents ** (1.0 / ndim)
+    wload = np.where(loaded, gap_norm / np.where(loaded, loads, 1.0), 1.0)
+    return wload, B.op.preconditioner(np.pi / extents[loaded].max())
+
+
+def _operators(B: _Bodies, on: _OnSet, nfft: list):
+    """(matvec, psolve, step) of GMRES on the set ``on``: the operators act on fields that
+    vanish off the set (``apply_sparse``); each counts its FFT pairs in ``nfft``; ``step``
+    (one body) is psolve then matvec in one call (None: several bodies)."""
+    sel, ni, own, wload, Hinv, last_w = on.sel, on.ni, on.own, on.wload, on.Hinv, on.last_w
+    S, cell, M, fft = B.S, B.cell, B.M, B.fft
+    add_reduce = np.add.reduce
+    sparse = fft.apply_sparse
+    low = B.op.low_rank  # a viscoelastic film's long tails (TailTerm)
+    if M == 1:  # one body (the common case): no gather by owner, no bincount
+        wcell = cell * float(wload[0])
+
+        def matvec(v):
+            nfft[0] += 1
+            # the sinking H p of the last matvec: GMRES's last matvec is at the x it returns,
+            # so this is H p of the new pressure (the same transform of the same data)
+            w = last_w[0] = sparse(v[:ni], sel, S)
+            for t in low:
+                w += t.field(v[:ni], sel)
+            out = np.empty_like(v)
+            np.subtract(w[sel], v[ni], out=out[:ni])
+            out[ni] = wcell * add_reduce(v[:ni])
+            return out
+    else:
+        def matvec(v):
+            nfft[0] += 1
+            w = last_w[0] = sparse(v[:ni], sel, S)
+            for t in low:
+                w += t.field(v[:ni], sel)
+            out = np.empty_like(v)
+            out[:ni] = w[sel] - v[ni:][own]
+            out[ni:] = cell * np.bincount(own, weights=v[:ni], minlength=M) * wload
+            return out
+
+    def psolve(r):
+        nfft[0] += 1
+        z = np.empty_like(r)
+        sparse(r[:ni], sel, Hinv, out=z[:ni])
+        z[ni:] = r[ni:]
+        return z
+
+    if M != 1:
+        return matvec, psolve, None
+    wstep = np.empty(ni + 1)  # GMRES's w, reused (it is copied into the basis)
+    wp = wstep[:ni]
+    masked = fft.sparse_applier(sel)
+    subtract = np.subtract
+
+    def step(v, z):  # psolve then matvec, the same operations in one call
+        nfft[0] += 2
+        zp = z[:ni]
+        masked(v[:ni], Hinv, zp)
+        z[ni] = v[ni]
+        masked(zp, S, wp)
+        for t in low:
+            np.add(wp, t.at(zp, sel), out=wp)
+        subtract(wp, z[ni], out=wp)
+        wstep[ni] = wcell * add_reduce(zp)  # (= zp.sum())
+        return wstep
+
+    return matvec, psolve, step
+
+
+class _Search:
+    """The active-set search's state: the shortcuts' budgets (``extrapolate``: 1D edges,
+    ``release``: 2D predicted releases), whether a shortcut was taken since the last cycle
+    (``extrapolated``), the sets seen (``seen``) and the inner tolerance ``rt``."""
+
+    def __init__(self, B: _Bodies, rtol, search_rtol, extrapolate: bool):
+        self.seen = set()
+        self.rt = max(rtol, search_rtol or rtol)  # the inner tolerance of this outer iteration
+        self.extrapolate = _EXTRAP_STEPS if extrapolate and B.M == 1 and B.ndim == 1 else 0
+        self.extrapolated = False  # whether a step was extrapolated (and no cycle met since)
+        self.release = _RELEASE_STEPS if B.ndim == 2 else 0
+
+
+def _next_set(B: _Bodies, on: _OnSet, s: _Search, active, p, gap, outer: int, nfft: list):
+    """The primal-dual step's next set: keep the nodes with p >= 0 (a node just added by a
+    tiny penetration may keep p = 0 exactly when the warm-started GMRES has nothing to do:
+    drop only tensile nodes), add the penetrated ones; with the shortcuts (``active_set``)
+    while their budgets last."""
+    sel, can_touch = on.sel, B.can_touch
+    if on.contiguous:  # the same sets from slices: inactive nodes off sel, active on it
+        new = gap < 0
+        new[sel] = p[sel] >= 0
+        if not B.touch_all:
+            new &= can_touch
+        if s.extrapolate and on.ni > 2 and not (new[:sel.start].any() or new[sel.stop:].any()):
+            ends = _shrunk_ends(p[sel], sel.start, 1 if outer == 1 else 0)
+            if ends is not None:
+                s.extrapolate -= 1
+                s.extrapolated = True
+                if not s.extrapolate:  # the last: then plain steps, whose cycle check
+                    s.seen.clear()     # forgets the extrapolated path
+                new[sel] = False
+                new[ends[0]:ends[1] + 1] = True
+                if not B.touch_all:
+                    new &= can_touch
+        return new
+    new = ((active & (p >= 0)) | (~active & (gap < 0))) & can_touch
+    if s.release and (active & (p < 0)).any():
+        more = _released_tensile(active & ~new, new, p, B.shape, _release_kernel(B.op, nfft),
+                                 added=new & ~active, gap=gap)
+        if more is not None:
+            s.release -= 1
+            s.extrapolated = True  # (a cycle through it: the union, as extrapolated steps)
+            if not s.release:
+                s.seen.clear()
+            new &= ~more
+    return new
+
+
+def _residuals(B: _Bodies, on: _OnSet, p, w, gap, active, history) -> dict:
+    """The final state's relative residuals (max-norm): gap on the set, penetration off it (over
+    the larger of the sinking and the heights on the set), tension (over p_max), load, and the
+    last linear solve's."""
+    sel, ni, f, cell, loads = on.sel, on.ni, B.f, B.cell, B.loads
+    # the ufuncs' reductions that ndarray.max/min/sum call, without their Python wrappers
+    # (~40 calls per paper-scene solve): the same values
+    mx, mn = np.maximum.reduce, np.minimum.reduce
+    # (sel holds the final active set's nodes: max |.| as max(max, -min), exactly)
+    fa, ga = f[sel], gap[sel]
+    scale_w = max(float(max(mx(w), -mn(w))), float(max(mx(fa), -mn(fa))) if ni else 0.0, 1e-300)
+    pmax = max(mx(p), 1e-300)
+    load_res = 0.0
+    if B.M == 1:
+        if B.loaded[0]:
+            load_res = abs(cell * np.add.reduce(p) - loads[0]) / loads[0]
+    else:
+        for m in np.flatnonzero(B.loaded):
+            load_res = max(load_res, abs(cell * p[B.owner == m].sum() - loads[m]) / loads[m])
+    return {
+        "gap": float(max(mx(ga), -mn(ga)) / scale_w) if ni else 0.0,
+        "penetration": float(max(0.0, -(min(mn(gap[:sel.start], initial=0.0),
+                                             mn(gap[sel.stop:], initial=0.0))
+                                         if on.contiguous and B.touch_all else
+                                         mn(gap[~active & B.can_touch], initial=0.0))) / scale_w),
+        "tension": float(max(0.0, -mn(p)) / pmax),
+        "load": float(load_res),
+        "linear": float(history[-1][1]),
+    }
+
+
 def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray, loads, *,
                           p_init: np.ndarray, rtol: float = 1e-10, accept: float | None = None,
                           max_outer: int = 200, max_krylov: int = 2000, grid: Grid | None = None,
@@ -155,198 +367,52 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
              where the edges extrapolate to (``_shrunk_ends``) instead of at the pressure's zero
              crossings, which halve the excess per step.  Only the path changes.
     """
-    shape = op.grid.shape
-    cell = op.grid.cell
-    ndim = op.grid.ndim
-    f = f.ravel() if isinstance(f, np.ndarray) and f.shape == shape else \
-        np.broadcast_to(f, shape).ravel()
-    owner = owner.ravel() if isinstance(owner, np.ndarray) and owner.shape == shape else \
-        np.broadcast_to(owner, shape).ravel()
-    loads = np.asarray(loads, dtype=float)
-    n = f.size
-    loaded = loads > 0
-    M = loads.size
-    # +inf: no body there (e.g. beyond sharp ends)
-    can_touch = ((np.isfinite(f) if loaded[0] else np.zeros(n, dtype=bool)) if M == 1
-                 else loaded[owner] & np.isfinite(f))
-    touch_all = bool(can_touch.all())
-    add_reduce = np.add.reduce
+    B = _Bodies(op, f, owner, loads)
     nfft = [0]  # FFT pairs
-    fft = get_rfft(shape)  # this thread's plan, bound once (op.apply looks it up per call)
-    S = op.symbol
-
-    active = (np.asarray(p_init).ravel() > 0) & can_touch
-    if M == 1:  # every loaded body needs a foothold
-        if loaded[0] and not active.any():
-            active[np.argmin(f)] = True
-    else:
-        for m in np.flatnonzero(loaded):
-            if not np.any(active & (owner == m)):
-                active[np.flatnonzero(owner == m)[np.argmin(f[owner == m])]] = True
-
+    active = B.first_set(p_init)
     p = np.where(active, np.asarray(p_init).ravel(), 0.0)
-    d = np.zeros(M)
-    seen = set()
+    d = np.zeros(B.M)
     history = []
     krylov_total = 0
-    rt = max(rtol, search_rtol or rtol)  # the inner tolerance of this outer iteration
-    extrapolate = _EXTRAP_STEPS if extrapolate and M == 1 and ndim == 1 else 0
-    extrapolated = False  # whether a step was extrapolated (and no cycle met since)
-    release = _RELEASE_STEPS if ndim == 2 else 0
+    s = _Search(B, rtol, search_rtol, extrapolate)
+    seen = s.seen
     for outer in range(1, max_outer + 1):  # noqa: B007 (the count is reported after the loop)
-        idx = active.nonzero()[0]  # (np.flatnonzero of the flat array, without its wrapper)
-        own = owner[idx] if M > 1 else None
-        ni = idx.size
-        # one contiguous run (the common 1D case): a slice gathers and scatters the same
-        # elements as the index array, without fancy indexing
-        contiguous = bool(ni) and idx[-1] - idx[0] + 1 == ni
-        sel = slice(int(idx[0]), int(idx[-1]) + 1) if contiguous else idx
-        # weight of each load row: its right-hand side as large as the whole gap block's, so
-        # GMRES's 2-norm stopping test controls the load as tightly as the gap
-        fi = f[sel]
-        gap_norm = math.sqrt(float(fi @ fi))  # np.linalg.norm's operations
-        if gap_norm < 1e-150:
-            # heights all zero on the set (one node at a smooth apex: a contact smaller than
-            # a cell): the load row weighted as the sinking it causes, ~ load / cell^(1 - 1/d)
-            # (a weight of 1e-300 let GMRES ignore the load: "residual 1.00e+00 after 1
-            # active-set and 1 GMRES iterations", issue 24)
-            gap_norm = max(float(np.abs(loads).max()) * cell ** (1.0 / ndim - 1.0)
-                           * math.sqrt(max(ni, 1)), 1e-300)
-        # preconditioner: inverse symbol clipped below the lowest mode the largest contact holds
-        if M == 1 and ndim == 1:  # the same floating-point operations on Python floats
-            wload = np.array([gap_norm / loads[0] if loaded[0] else 1.0])
-            Hinv = op.preconditioner(math.pi / (max(ni, 1) * cell))
-        else:
-            extents = (np.array([max(ni, 1)]) if M == 1
-                       else np.maximum(np.bincount(own, minlength=M), 1)) * cell
-            if ndim > 1:
-                extents = extents ** (1.0 / ndim)
-            wload = np.where(loaded, gap_norm / np.where(loaded, loads, 1.0), 1.0)
-            Hinv = op.preconditioner(np.pi / extents[loaded].max())
-        sparse = fft.apply_sparse  # the operators on fields that vanish off the active set
-        # the sinking H p of the last matvec: GMRES's last matvec is at the x it returns, so
-        # this is H p of the new pressure (the same transform of the same data: no extra pair)
-        last_w = [None]
-        low = op.low_rank  # a viscoelastic film's long tails (TailTerm)
-        if M == 1:  # one body (the common case): no gather by owner, no bincount
-            wcell = cell * float(wload[0])
-
-            def matvec(v):
-                nfft[0] += 1
-                w = last_w[0] = sparse(v[:ni], sel, S)
-                for t in low:
-                    w += t.field(v[:ni], sel)
-                out = np.empty_like(v)
-                np.subtract(w[sel], v[ni], out=out[:ni])
-                out[ni] = wcell * add_reduce(v[:ni])
-                return out
-        else:
-            def matvec(v):
-                nfft[0] += 1
-                w = last_w[0] = sparse(v[:ni], sel, S)
-                for t in low:
-                    w += t.field(v[:ni], sel)
-                out = np.empty_like(v)
-                out[:ni] = w[sel] - v[ni:][own]
-                out[ni:] = cell * np.bincount(own, weights=v[:ni], minlength=M) * wload
-                return out
-
-        def psolve(r):
-            nfft[0] += 1
-            z = np.empty_like(r)
-            sparse(r[:ni], sel, Hinv, out=z[:ni])
-            z[ni:] = r[ni:]
-            return z
-
-        step = None
-        if M == 1:
-            wstep = np.empty(ni + 1)  # GMRES's w, reused (it is copied into the basis)
-            wp = wstep[:ni]
-            masked = fft.sparse_applier(sel)
-            subtract = np.subtract
-
-            def step(v, z):  # psolve then matvec, the same operations in one call
-                nfft[0] += 2
-                zp = z[:ni]
-                masked(v[:ni], Hinv, zp)
-                z[ni] = v[ni]
-                masked(zp, S, wp)
-                for t in low:
-                    np.add(wp, t.at(zp, sel), out=wp)
-                subtract(wp, z[ni], out=wp)
-                wstep[ni] = wcell * add_reduce(zp)  # (= zp.sum())
-                return wstep
-
-        if M == 1:  # the same values as the general concatenations below
-            b = np.empty(ni + 1)
-            np.negative(fi, out=b[:ni])
-            b[ni] = loads[0] * wload[0] if loaded[0] else 0.0
-            v0 = np.empty(ni + 1)
-            v0[:ni] = p[sel]
-            v0[ni] = d[0]
-        else:
-            b = np.concatenate([-fi, np.where(loaded, loads, 0.0) * wload])
-            v0 = np.concatenate([p[idx], d])
-        v, its, rel_res = gmres(matvec, psolve, b, v0, rtol=rt, maxiter=max_krylov, step=step)
-        if its == 0 and rt > rtol:
+        on = _OnSet(B, active, p, d, nfft)
+        sel, ni = on.sel, on.ni
+        v, its, rel_res = gmres(on.matvec, on.psolve, on.b, on.v0, rtol=s.rt, maxiter=max_krylov,
+                                step=on.step)
+        if its == 0 and s.rt > rtol:
             # the start already meets the loose tolerance (a search that has settled): rtol
             # now, on this set, without an active-set step that would only find it unchanged
-            rt = rtol
+            s.rt = rtol
             seen.clear()
-            v, its, rel_res = gmres(matvec, psolve, b, v, rtol=rt, maxiter=max_krylov, step=step)
+            v, its, rel_res = gmres(on.matvec, on.psolve, on.b, v, rtol=s.rt, maxiter=max_krylov,
+                                    step=on.step)
         krylov_total += its
-        p = np.zeros(n)
+        p = np.zeros(B.n)
         p[sel] = v[:ni]
         d = v[ni:].copy()
-        d[~loaded] = 0.0
-        w = last_w[0]
-        gap = f - d[0] + w if M == 1 else f - d[owner] + w
-        # keep nodes with p >= 0: a node just added by a tiny penetration may keep p = 0
-        # exactly when the warm-started GMRES has nothing to do (drop only tensile nodes)
-        if contiguous:  # the same sets from slices: inactive nodes off sel, active on it
-            new = gap < 0
-            new[sel] = p[sel] >= 0
-            if not touch_all:
-                new &= can_touch
-            if extrapolate and ni > 2 and not (new[:sel.start].any() or new[sel.stop:].any()):
-                ends = _shrunk_ends(p[sel], sel.start, 1 if outer == 1 else 0)
-                if ends is not None:
-                    extrapolate -= 1
-                    extrapolated = True
-                    if not extrapolate:  # the last: then plain steps, whose cycle check
-                        seen.clear()     # forgets the extrapolated path
-                    new[sel] = False
-                    new[ends[0]:ends[1] + 1] = True
-                    if not touch_all:
-                        new &= can_touch
-        else:
-            new = ((active & (p >= 0)) | (~active & (gap < 0))) & can_touch
-            if release and (active & (p < 0)).any():
-                more = _released_tensile(active & ~new, new, p, shape, _release_kernel(op, nfft),
-                                         added=new & ~active, gap=gap)
-                if more is not None:
-                    release -= 1
-                    extrapolated = True  # (a cycle through it: the union, as extrapolated steps)
-                    if not release:
-                        seen.clear()
-                    new &= ~more
+        d[~B.loaded] = 0.0
+        w = on.last_w[0]
+        gap = B.f - d[0] + w if B.M == 1 else B.f - d[B.owner] + w
+        new = _next_set(B, on, s, active, p, gap, outer, nfft)
         history.append((ni, float(rel_res), its))
         key = new.tobytes()
         akey = active.tobytes()
         settled = key == akey
-        if rt > rtol and (settled or key in seen or outer >= _SEARCH_STEPS):
+        if s.rt > rtol and (settled or key in seen or outer >= _SEARCH_STEPS):
             # the search has settled (or cycles, or wanders: strong friction) at the loose
             # tolerance: from here on, rtol
-            rt = rtol
+            s.rt = rtol
             seen.clear()
             if settled:
                 continue
         elif settled:
             break
-        elif key in seen and extrapolated:
+        elif key in seen and s.extrapolated:
             # a cycle after extrapolated steps (which may have cut into the contact): once,
             # the union of the two sets, from which plain steps shed tensile nodes
-            extrapolated = False
+            s.extrapolated = False
             seen.clear()
             new |= active
         elif key in seen:
@@ -355,10 +421,7 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
             # the state only if that violation is negligible, and raises otherwise.
             break
         seen.add(akey)
-        for m in (() if M == 1 and new.any() else np.flatnonzero(loaded)):
-            if not np.any(new & (owner == m)):
-                mine = np.flatnonzero(owner == m)
-                new[mine[np.argmin(gap[mine])]] = True
+        B.footholds(new, gap)
         active = new
     else:
         raise ConvergenceError(
@@ -366,28 +429,7 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
             f"(last inner residual {history[-1][1]:.2e})",
             residuals=[h[1] for h in history], iterations=max_outer)
 
-    # (sel holds the final active set's nodes: max |.| as max(max, -min), exactly)
-    fa, ga = f[sel], gap[sel]
-    scale_w = max(float(max(w.max(), -w.min())), float(max(fa.max(), -fa.min())) if ni else 0.0,
-                  1e-300)
-    pmax = max(p.max(), 1e-300)
-    load_res = 0.0
-    if M == 1:
-        if loaded[0]:
-            load_res = abs(cell * p.sum() - loads[0]) / loads[0]
-    else:
-        for m in np.flatnonzero(loaded):
-            load_res = max(load_res, abs(cell * p[owner == m].sum() - loads[m]) / loads[m])
-    residuals = {
-        "gap": float(max(ga.max(), -ga.min()) / scale_w) if ni else 0.0,
-        "penetration": float(max(0.0, -(min(gap[:sel.start].min(initial=0.0),
-                                             gap[sel.stop:].min(initial=0.0))
-                                         if contiguous and touch_all else
-                                         gap[~active & can_touch].min(initial=0.0))) / scale_w),
-        "tension": float(max(0.0, -p.min()) / pmax),
-        "load": float(load_res),
-        "linear": float(history[-1][1]),
-    }
+    residuals = _residuals(B, on, p, w, gap, active, history)
     residual = max(residuals.values())
     if residual > (accept if accept is not None else max(1e3 * rtol, 1e-8)):
         raise ConvergenceError(
@@ -395,119 +437,10 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
             f"({', '.join(f'{k} {v:.1e}' for k, v in residuals.items())}) after {outer} "
             f"active-set and {krylov_total} GMRES iterations",
             residuals=[h[1] for h in history], iterations=outer)
+    shape = B.shape
     return ContactSolution(grid or op.grid, p.reshape(shape), w.reshape(shape), gap.reshape(shape),
-                           active.reshape(shape), owner.reshape(shape), d, outer, krylov_total,
+                           active.reshape(shape), B.owner.reshape(shape), d, outer, krylov_total,
                            nfft[0], residual, residuals, history)
-
-
-def _shrunk_ends(pa: np.ndarray, start: int, min_shed: int = 0):
-    """The next active set's first and last nodes when the set [start, start + pa.size) only
-    sheds tensile end nodes (None when neither end is tensile).  On a half-space, a set of
-    half-width b about the contact's centre holds p = alpha sqrt(b^2 - x^2) + beta /
-    sqrt(b^2 - x^2), beta = alpha (a^2 - b^2) / 2 for the contact's half-width a: its zero
-    crossings x0 (what the plain step keeps) satisfy x0^2 = (a^2 + b^2) / 2, so each end is
-    moved to sqrt(2 x0^2 - b^2) from the set's centre, b its distance to the end node plus
-    _SET_EDGE cells.  The film is stiffer at long waves: its plain step sheds more than half
-    the excess, the full extrapolation overshoots into the contact, so only _EXTRAP_WEIGHT of
-    it is taken (the move is to sqrt(x0^2 - w (b^2 - x0^2))); an end that still lands inside
-    the contact is grown back by the next step's penetrated nodes.  An end that sheds at most ``min_shed`` nodes is
-    left where the plain step puts it (1 for the half-space guess, exact on a half-space but
-    for a node at each end: extrapolated, it would cut one more)."""
-    n = pa.size
-    neg = pa < 0
-    if not (neg[0] or neg[-1]) or neg.all():
-        return None
-    kl = int(np.argmin(neg))               # first node with p >= 0
-    kr = n - 1 - int(np.argmin(neg[::-1]))  # last node with p >= 0
-    c = 0.5 * (n - 1)
-    b = c + _SET_EDGE
-    ends = []
-    for k, side in ((kl, -1), (kr, 1)):
-        if abs(k - (0 if side < 0 else n - 1)) <= min_shed:  # as the plain step
-            ends.append(k)
-            continue
-        j = k + side  # the tensile node next to the zero crossing
-        x0 = k + side * pa[k] / (pa[k] - pa[j])  # linear interpolation (nodes' index units)
-        r = abs(x0 - c)
-        e = math.sqrt(max(r * r - _EXTRAP_WEIGHT * (b * b - r * r), 0.0))
-        ends.append(math.ceil(c - e) if side < 0 else math.floor(c + e))
-    lo, hi = max(ends[0], 0), min(ends[1], n - 1)
-    if lo > hi or lo > kr or hi < kl:
-        return None
-    return start + lo, start + hi
-
-
-def _release_kernel(op: FourierOperator, nfft: list) -> np.ndarray:
-    """The grid's compliance between nodes at offsets up to 2 _RELEASE_REACH per axis (the
-    response at node offset (i, j) to a unit nodal pressure: the inverse transform of the
-    symbol), cached on the operator; computing it counts as one FFT pair in ``nfft``."""
-    key = (_RELEASE_REACH, op.grid.shape)
-    cached = getattr(op, "_release_kernel", None)
-    if cached is not None and cached[0] == key:
-        return cached[1]
-    nfft[0] += 1
-    full = get_rfft(op.grid.shape).backward(op.symbol)
-    r2 = 2 * _RELEASE_REACH
-    ix = np.arange(-r2, r2 + 1) % op.grid.shape[0]
-    iy = np.arange(-r2, r2 + 1) % op.grid.shape[1]
-    kern = full[np.ix_(ix, iy)].copy()  # [offset_x + r2, offset_y + r2]
-    op._release_kernel = (key, kern)
-    return kern
-
-
-def _released_tensile(shed: np.ndarray, keep: np.ndarray, p: np.ndarray, shape: tuple,
-                      kern: np.ndarray, added: np.ndarray | None = None,
-                      gap: np.ndarray | None = None):
-    """2D: the nodes of ``keep`` (the next active set, flat) that releasing the tensile nodes
-    ``shed`` (flat, p < 0 there, to p = 0) would turn tensile (None when none would).
-
-    A released node no longer pulls the surface to the indenter; its active neighbours carry
-    the difference (and a node ``added`` with gap < 0 takes load from them as its gap closes).
-    Around each released or added node c, on the (2r+1)^2 nodes within r = _RELEASE_REACH
-    cells, the pressures of the next set's nodes u change by dp with their sinking changed by
-    dw_u = 0 (kept nodes) or -gap_u (added nodes): K_uu dp_u = dw_u + K_us p_s (K the grid's
-    nodal compliance ``kern``, s the released nodes there; the nodes beyond the patch and the
-    indentation held).  A node covered by several patches takes the prediction of the one whose
-    centre is nearest.  Nodes predicted p + dp < 0 are released in turn, or not added
-    (_RELEASE_ROUNDS times at most).  Only the path changes: the next solve checks every node
-    as before."""
-    nx, ny = shape
-    r = _RELEASE_REACH
-    o = np.arange(-r, r + 1)
-    ox, oy = (a.ravel() for a in np.meshgrid(o, o, indexing="ij"))
-    # the patch's compliance matrix: K[a, b] = kern[offset_a - offset_b]
-    K = kern[(ox[:, None] - ox[None, :]) + 2 * r, (oy[:, None] - oy[None, :]) + 2 * r]
-    ring = np.maximum(np.abs(ox), np.abs(oy))
-    eye = np.eye(ox.size)
-    if added is None or not added.any():
-        added, dw_all = np.zeros(p.size, dtype=bool), None
-    else:
-        dw_all = np.where(added, -gap, 0.0)
-    extra = np.zeros(p.size, dtype=bool)
-    found = False
-    for _ in range(_RELEASE_ROUNDS):
-        released = shed | extra
-        kept = keep & ~extra
-        cx, cy = np.divmod(np.flatnonzero(released | added), ny)
-        nodes = ((cx[:, None] + ox) % nx) * ny + (cy[:, None] + oy) % ny  # [centre, offset]
-        k = kept[nodes]
-        src = np.where(released[nodes], p[nodes], 0.0)
-        rhs = src @ K.T
-        if dw_all is not None:
-            rhs += dw_all[nodes]
-        A = np.where(k[:, :, None] & k[:, None, :], K, 0.0) + np.where(k, 0.0, 1.0)[:, :, None] * eye
-        dp = np.linalg.solve(A, np.where(k, rhs, 0.0)[:, :, None])[:, :, 0]
-        # each kept node once, from its nearest centre
-        flat, dist, pred = nodes[k], np.broadcast_to(ring, k.shape)[k], (p[nodes] + dp)[k]
-        order = np.lexsort((dist, flat))
-        first = np.unique(flat[order], return_index=True)[1]
-        pick = flat[order][first]
-        tensile = pick[pred[order][first] < 0]
-        if not tensile.size:
-            break
-        extra[tensile] = True
-        found = True
-    return extra if found else None
 
 
 def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None, p_init=None,
@@ -558,67 +491,6 @@ def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None,
                                  p_init=guess if p_init is None else p_init, rtol=rtol,
                                  accept=accept, max_outer=max_outer, max_krylov=max_krylov,
                                  grid=grid, search_rtol=search_rtol)
-
-
-def nested_guess(coarse: ContactSolution, grid: Grid) -> np.ndarray:
-    """The first pressure on ``grid`` (twice ``coarse.grid``'s points per axis, same periods):
-    the coarse pressure interpolated (``refine_nested``), its support set to the coarse
-    contact up to its fitted edges (+ _EDGE_REACH fine cells).  1D: the runs' edges.  2D: the
-    contact boundary is a curve: along every coarse row and column its fitted edges give a
-    chord (centre c, half-width w); a fine node is inside when a row chord or a column chord,
-    interpolated to its line (c linearly, w^2 linearly: below a convex boundary's), holds it.
-    Rows resolve the boundary where it crosses them steeply, columns near the rows' extremes."""
-    p0 = refine_nested(coarse.pressure)
-    if not coarse.active.any() or grid.ndim > 2:
-        return p0
-    cg = coarse.grid
-    if grid.ndim == 1:
-        edges = fit_edges(cg.x, cg.dx, coarse.gap, coarse.pressure, coarse.active)
-        x, L, dx = grid.x, grid.length, grid.dx
-        inside = np.zeros(grid.n, dtype=bool)
-        for left, right in edges:
-            lo = left - _EDGE_REACH * dx
-            inside |= np.mod(x - lo, L) < (right - left) + 2 * _EDGE_REACH * dx
-        return np.where(inside, np.maximum(p0, 1e-12), 0.0)
-    gap = coarse.gap
-    if not np.all(np.isfinite(gap)):  # (sharp ends: +inf where no body; as measure2d)
-        big = np.max(gap[np.isfinite(gap)], initial=1.0)
-        gap = np.where(np.isfinite(gap), gap, 10.0 * abs(big) + 1.0)
-    inside = np.zeros(grid.shape, dtype=bool)
-    for axis in (0, 1):  # rows (chords along x, axis 0) then columns (along y)
-        other = 1 - axis
-        coord, across = cg.axes[axis], cg.axes[other]
-        d = cg.spacing[axis]
-        g2, p2, a2 = ((gap, coarse.pressure, coarse.active) if axis == 0 else
-                      (gap.T, coarse.pressure.T, coarse.active.T))
-        lines = np.flatnonzero(a2.any(axis=0))
-        if lines.size < 2 or lines[-1] - lines[0] + 1 != lines.size:
-            continue  # a contact across the period or in pieces: the other direction's
-        c = np.zeros(lines.size)
-        w2 = np.zeros(lines.size)
-        one = np.ones(lines.size)  # lines holding one run (a chord)
-        for i, j in enumerate(lines):
-            runs = fit_edges(coord, d, g2[:, j], p2[:, j], a2[:, j])
-            if len(runs) > 1:  # (e.g. columns through a finite cylinder's two wider ends:
-                one[i] = 0.0   # left to the rows; their span as one chord cost it 5 steps)
-                continue
-            lo, hi = runs[0]
-            c[i], w2[i] = 0.5 * (lo + hi), (0.5 * (hi - lo)) ** 2
-        fine_across = grid.axes[other]
-        t = across[lines]
-        ok = (fine_across >= t[0]) & (fine_across <= t[-1])
-        ok[ok] = np.interp(fine_across[ok], t, one) == 1.0  # between two chords
-        cf = np.interp(fine_across[ok], t, c)
-        wf = np.sqrt(np.interp(fine_across[ok], t, w2)) + _EDGE_REACH_2D * grid.spacing[axis]
-        fine = grid.axes[axis]
-        lines_in = (np.abs(fine[:, None] - cf[None, :]) <= wf[None, :])  # [along, across]
-        if axis == 0:
-            inside[:, ok] |= lines_in
-        else:
-            inside[ok, :] |= lines_in.T
-    if not inside.any():
-        return p0
-    return np.where(inside, np.maximum(p0, 1e-12), 0.0)
 
 
 def _nested_start(grid: Grid, mu: float, indenters, film: Film, floor: int, options: dict

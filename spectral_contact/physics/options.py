@@ -140,28 +140,32 @@ class Option:
         """``value`` validated (floats: a real number, finite, in range, -0 made 0; str: one of
         the choices; tuple: the Prony terms, ``check_prony``); InputError naming the option
         (``errors.named``) and the accepted values."""
-        n = named(self.name)
         if self.kind is tuple:
-            return check_prony(value, n)
+            return check_prony(value, named(self.name))
         if self.kind is str:
             if not isinstance(value, str) or value not in self.choices:
-                raise InputError(f"{n} ({self.what}) must be {self.accepted()}; got {_short(value)}")
+                raise self._refused(f"must be {self.accepted()}; got {_short(value)}")
             return value
         if isinstance(value, bool) or not isinstance(value, numbers.Real):
-            raise InputError(f"{n} ({self.what}) must be a number ({self.accepted()}); got "
-                             f"{_short(value)}")
+            raise self._refused(f"must be a number ({self.accepted()}); got {_short(value)}")
         try:
             v = float(value)
         except (TypeError, ValueError, OverflowError):
-            raise InputError(f"{n} ({self.what}) must be a finite number ({self.accepted()}); "
-                             f"got {_short(value)}") from None
+            raise self._refused(f"must be a finite number ({self.accepted()}); got "
+                                f"{_short(value)}") from None
         if not math.isfinite(v):
-            raise InputError(f"{n} ({self.what}) must be finite ({self.accepted()}); got {v}")
+            raise self._refused(f"must be finite ({self.accepted()}); got {v}")
         lo, hi = self.lo, self.hi
         if ((lo is not None and (v < lo or (self.lo_open and v == lo)))
                 or (hi is not None and (v > hi or (self.hi_open and v == hi)))):
-            raise InputError(f"{n} ({self.what}) must be {self.accepted()}; got {v:g}")
+            raise self._refused(f"must be {self.accepted()}; got {v:g}")
         return v + 0.0  # no -0
+
+    def _refused(self, what: str) -> InputError:
+        """The one-line InputError of ``check``: the option as the user named it (``named``,
+        looked up only when refusing: ``check`` runs ~20 times per ``solve()``), what it is,
+        ``what`` is wrong."""
+        return InputError(f"{named(self.name)} ({self.what}) {what}")
 
 
 def check_prony(prony, option: str = "--prony") -> tuple:

@@ -395,6 +395,57 @@ def abel_fields(scene: Scene, mu: float, n: int, a_guess: float | None = None) -
     return _solve_once(P, mu, n, a_guess)
 
 
+def _unloaded(scene: Scene, model: str, x, t_start: float) -> ContactResult:
+    """P = 0: no contact, zero fields on ``x`` (default: 401 points over +- 8 h)."""
+    xx = np.linspace(-8.0, 8.0, 401) if x is None else x.copy()
+    z = np.zeros_like(xx)
+    return ContactResult(
+        scene=scene, model=model, method="abel", x=xx, pressure=z, base_sigma_zz=z.copy(),
+        base_sigma_xz=z.copy(), half_width=0.0, center=0.0, indentation=0.0,
+        max_pressure=0.0, max_pressure_x=0.0, grid_points=0,
+        domain_length=float(xx[-1] - xx[0]) if xx.size > 1 else 0.0, iterations=0,
+        residual=0.0, error_estimate=0.0, wall_time_s=time.perf_counter() - t_start,
+        info={"condition_number": 1.0, "n_nodes": 0, "no_contact": True})
+
+
+def _node_levels(P: float, mu: float, tol: float, n_nodes, a_start: float, root_iterations):
+    """The tolerance loop: the node count raised by 1.5x from ``_default_nodes`` until the
+    change against the previous count is below tol (a fixed ``n_nodes``: against
+    ``_smaller(n_nodes)``).  (fine, n, n_small, err); ConvergenceError at N_MAX."""
+    if n_nodes is not None:
+        n = n_nodes
+        n_small = _smaller(n)
+        fine = _solve_once(P, mu, n, a_start, root_iterations)
+        coarse = _solve_once(P, mu, n_small, fine.sol.a, root_iterations, fine.xmax)
+        return fine, n, n_small, _change(fine, coarse)
+    n = _default_nodes(a_start, tol)
+    n_small = _smaller(n)
+    coarse = _solve_once(P, mu, n_small, a_start, root_iterations)
+    while True:
+        fine = _solve_once(P, mu, n, coarse.sol.a, root_iterations, coarse.xmax)
+        err = _change(fine, coarse)
+        if err <= tol or n >= N_MAX:
+            break
+        coarse, n_small = fine, n
+        n = min(N_MAX, int(math.ceil(1.5 * n)))
+    if err > tol:
+        raise ConvergenceError(
+            f"Abel solver: error estimate {err:.2e} > tol {tol:g} at {n} nodes "
+            f"(a = {fine.sol.a:.3g} h, mu = {mu:g}, condition number "
+            f"{fine.sol.cond:.2e}); the Abel method degrades at large a/h",
+            residuals=[err], iterations=fine.iterations)
+    return fine, n, n_small, err
+
+
+def _profile_x(a: float, x0: float) -> np.ndarray:
+    """The default profile abscissae (apex frame): the contact +- 8 h, the base stresses'
+    peaks sampled to ~1e-5 (cells min(0.02, a/50), 400 ... 4000 points, odd)."""
+    span = a + 8.0
+    dx = min(0.02, a / 50.0)
+    npts = int(min(max(math.ceil(2.0 * span / dx), 400), 4000)) | 1
+    return np.linspace(-x0 - span, -x0 + span, npts)
+
+
 # -------------------------------------------------------------------------------------------------
 def solve_abel(scene: Scene, model: str = "exact", tol: float = 1e-4, n_nodes: int | None = None,
                x: np.ndarray | None = None) -> ContactResult:
@@ -446,45 +497,13 @@ def solve_abel(scene: Scene, model: str = "exact", tol: float = 1e-4, n_nodes: i
     mu_solve = 0.0 if model == "goodman" else mu
 
     if P == 0.0:
-        xx = np.linspace(-8.0, 8.0, 401) if x is None else x.copy()
-        z = np.zeros_like(xx)
-        return ContactResult(
-            scene=scene, model=model, method="abel", x=xx, pressure=z, base_sigma_zz=z.copy(),
-            base_sigma_xz=z.copy(), half_width=0.0, center=0.0, indentation=0.0,
-            max_pressure=0.0, max_pressure_x=0.0, grid_points=0,
-            domain_length=float(xx[-1] - xx[0]) if xx.size > 1 else 0.0, iterations=0,
-            residual=0.0, error_estimate=0.0, wall_time_s=time.perf_counter() - t_start,
-            info={"condition_number": 1.0, "n_nodes": 0, "no_contact": True})
+        return _unloaded(scene, model, x, t_start)
 
     # --- scouting pass: node count following a, load to 1e-4 -------------------------------
     scout, scout_it, _ = _solve_load(P, mu_solve, lambda a: _default_nodes(a, 1e-6),
                                      _initial_half_width(P), rtol=1e-4)
-    a_start = scout.a
     root_iterations = [scout_it]  # every root-finding step is one Nystrom solve
-    # --- tolerance loop ------------------------------------------------------------------------
-    if n_nodes is not None:
-        n = n_nodes
-        n_small = _smaller(n)
-        fine = _solve_once(P, mu_solve, n, a_start, root_iterations)
-        coarse = _solve_once(P, mu_solve, n_small, fine.sol.a, root_iterations, fine.xmax)
-        err = _change(fine, coarse)
-    else:
-        n = _default_nodes(a_start, tol)
-        n_small = _smaller(n)
-        coarse = _solve_once(P, mu_solve, n_small, a_start, root_iterations)
-        while True:
-            fine = _solve_once(P, mu_solve, n, coarse.sol.a, root_iterations, coarse.xmax)
-            err = _change(fine, coarse)
-            if err <= tol or n >= N_MAX:
-                break
-            coarse, n_small = fine, n
-            n = min(N_MAX, int(math.ceil(1.5 * n)))
-        if err > tol:
-            raise ConvergenceError(
-                f"Abel solver: error estimate {err:.2e} > tol {tol:g} at {n} nodes "
-                f"(a = {fine.sol.a:.3g} h, mu = {mu_solve:g}, condition number "
-                f"{fine.sol.cond:.2e}); the Abel method degrades at large a/h",
-                residuals=[err], iterations=fine.iterations)
+    fine, n, n_small, err = _node_levels(P, mu_solve, tol, n_nodes, scout.a, root_iterations)
 
     sol = fine.sol
     if sol.cond > COND_WARN or sol.cond * 1e-15 > tol:
@@ -494,13 +513,7 @@ def solve_abel(scene: Scene, model: str = "exact", tol: float = 1e-4, n_nodes: i
             AbelAccuracyWarning, stacklevel=2)
 
     x0, inv_alpha = fine.x0, fine.inv_alpha
-    if x is None:
-        span = sol.a + 8.0
-        dx = min(0.02, sol.a / 50.0)  # peaks of the base stresses sampled to ~1e-5
-        npts = int(min(max(math.ceil(2.0 * span / dx), 400), 4000)) | 1
-        xx = np.linspace(-x0 - span, -x0 + span, npts)
-    else:
-        xx = x.copy()
+    xx = _profile_x(sol.a, x0) if x is None else x.copy()
     xp = xx + x0  # paper frame
     p = sol.pressure(xp)
     pmin = float(np.min(sol.pressure(np.linspace(-sol.a, sol.a, 203)[1:-1])))

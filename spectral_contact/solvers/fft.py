@@ -272,7 +272,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
         log, as the surfaces' ``solve_fft3d``).
     """
     prob = Problem(scene, model, tol, adaptive=not grid_points,
-                   progress=_log.info if progress is None else progress)
+                   progress=_log if progress is None else progress)
     if prob.visco and grid_points is None and domain_length is None:
         # slow sliding: the relaxed elastic solve + the first-order correction (visco_slow)
         slow = slow_sliding(scene, prob.film, model, tol, solve_fft)

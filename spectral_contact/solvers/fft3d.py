@@ -165,7 +165,7 @@ def solve_fft3d(scene: Scene3D, model: str = "exact", tol: float = 1e-3, grid_po
     # inner solves are looser on every path (adaptive=True: its contact only sizes the period
     # and the grid).
     prob = Problem(scene, model, tol, adaptive=True,
-                   progress=logging.getLogger(__name__).info if progress is None else progress)
+                   progress=logging.getLogger(__name__) if progress is None else progress)
     grid_points, domain_length = _check_fixed(grid_points, domain_length)
     # the inner (GMRES) solves to 1e-4 of the accepted residual (issue 25: 1e-10 before; one
     # to two GMRES iterations per active-set step for digits no measure keeps; 1e-3 left the

@@ -14,7 +14,8 @@ exceeds tol (then, or with a fixed grid, ``tolerance_met`` says).
 The stick zone's radius sqrt(area/pi) has its own estimate (``stick_error_estimate``).
 
 Default tol 1e-2 (``DEFAULT_TOL_3D``): each level costs N^2 points per step and the loading
-has 30 steps by default; 1e-2 is about what a MEMS measurement resolves.
+has 40 steps by default (20 loading, 20 tangential); 1e-2 is about what a MEMS measurement
+resolves.
 """
 from __future__ import annotations
 
@@ -35,8 +36,10 @@ from ..physics.scene import Scene3D, check_tol
 from .base import check_onset_mu
 from .fft3d import MAX_POINTS_3D, MIN_POINTS_3D, solve_fft3d
 from .onset_core import (
+    LOADING_STEPS,
     Dimension,
     LoadingRun,
+    OnsetBase,
     differences,
     refine,
     step_record,
@@ -127,7 +130,9 @@ class _Surface(Dimension):
 
     def rtol(self, accept):
         # the inner (GMRES) solves to 1e-4 of the accepted residual (as solve's 3D contact):
-        # the loads then hold to ~1e-8 (equilibrium; at 1e-2 of it, 1e-7)
+        # 1e-2 of it, as lines (the loads are held exactly by the balance either way), left the
+        # slip directions of a sphere of a_H/h = 2 on 256^2 with a friction-law residual of
+        # 5.2e-3 during the loading (exit 3)
         return max(1e-10, 1e-4 * accept)
 
     def measure(self, g, s, f, mu):
@@ -155,7 +160,7 @@ def _differences(fine, coarse):
 
 
 def solve_onset3d(scene: Scene3D, path, tol: float = DEFAULT_TOL_3D, *,
-                  loading: str = "frictional", loading_steps: int = 10, grid_points=None,
+                  loading: str = "frictional", loading_steps: int = LOADING_STEPS, grid_points=None,
                   domain_length=None, progress=None) -> OnsetResult3D:
     """Partial slip of a sphere or paraboloid (``scene``) along the tangential loads
     Q/(mu P) = ``path`` (see the module's docstring).  grid_points: N (both axes) fixed;
@@ -209,30 +214,10 @@ def solve_onset3d(scene: Scene3D, path, tol: float = DEFAULT_TOL_3D, *,
                          time.perf_counter() - t0, counters, film, step_est)
 
 
-class OnsetResult3D:
+class OnsetResult3D(OnsetBase):
     """The loading of ``solve_onset3d``: per step (0 = after the normal load) the fields on the
     grid (flat arrays reshaped [x, y] by ``field``), ``measures``, ``summary()`` (JSON, SI),
     ``profiles()`` (the y = 0 line, tidy), ``plot()`` (a Figure)."""
-
-    def __init__(self, scene, path, loading, loading_steps, tol, run, estimates, stick_estimates,
-                 steady, tolerance_met, wall_time_s, counters, film, load_step_estimates=None):
-        self.scene = scene
-        self.n_steps = len(path)
-        self.cycle = min(path) < 0.0
-        self.loading, self.loading_steps, self.tol = loading, loading_steps, tol
-        self.grid = run.grid
-        self.states = [run.loaded] + run.states
-        self.measures = run.measures
-        self.error_estimates = [float(e) for e in estimates]
-        self.stick_error_estimates = [float(e) for e in stick_estimates]
-        self.load_step_estimates = [float(e) for e in (load_step_estimates
-                                                       or [0.0] * len(estimates))]
-        self.steady = steady
-        self.tolerance_met = bool(tolerance_met)
-        self.wall_time_s = wall_time_s
-        self.counters = counters
-        self.film = film
-        self.Q_over_muP = np.array([0.0] + list(path))
 
     def field(self, k: int, name: str) -> np.ndarray:
         """A field of step k as an [x, y] array: "pressure", "shear_x", "shear_y", "stick",
