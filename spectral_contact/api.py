@@ -123,7 +123,7 @@ def solve(scene: Scene | Scene3D | None = None, *, film: Film | None = None, ind
         scene = make_scene(film=film, indenter="line" if indenter is None else indenter,
                            interface=interface, **params)
     if tol is None:
-        tol = default_tol(scene) if isinstance(scene, Scene3D) else 1e-4
+        tol = default_tol(scene) if scene.dimension == "surface" else 1e-4
     L_h = None
     if domain_length is not None:
         values = domain_length if np.ndim(domain_length) else [domain_length]

@@ -34,7 +34,7 @@ def solve_scene(scene: Scene, model: str, method: str, tol: float, grid_points=N
     if not isinstance(model, str) or model not in MODELS:
         raise InputError(f"model must be one of {', '.join(MODELS)}; got {model!r}")
     if getattr(scene, "prony", ()) and (model == "hertz" or method != "fft"
-                                        or (model == "auto" and isinstance(scene, Scene3D))):
+                                        or (model == "auto" and scene.dimension == "surface")):
         # issue 23: the viscoelastic film's symbol is in the FFT solver only
         raise InputError(f"--prony (a viscoelastic film) needs --model exact or goodman (auto: "
                          f"line indenter) and --method fft; got --model {model}, --method {method}")
@@ -46,19 +46,27 @@ def solve_scene(scene: Scene, model: str, method: str, tol: float, grid_points=N
         which = "model hertz" if model == "hertz" else f"method {method}"
         raise InputError(f"{which} solves the built-in cylinder, sphere and film only; {custom} "
                          f"needs method fft and model exact or goodman")
-    if isinstance(scene, Scene3D):
-        if method != "fft":
-            raise InputError(f"method {method!r} is for a line indenter (plane strain); 3D "
-                             f"indenters use method fft")
-        if model == "auto":
-            raise InputError("model auto is for a line indenter; use exact, goodman or hertz in 3D")
-        solver = make_method(method, tol, grid_points, domain_length)
-        if model == "hertz":
-            if scene.poisson != 0.5:
-                raise InputError(f"model hertz is the incompressible half-space (poisson 0.5) only; "
-                                 f"got poisson {scene.poisson:g}: use model exact or goodman")
-            return solve_hertz3d(scene, solver.tol, grid_points, domain_length)
-        return solver.solve(scene, model)
+    return _SOLVE[scene.dimension](scene, model, method, tol, grid_points, domain_length, custom)
+
+
+def _solve_surface(scene: Scene3D, model, method, tol, grid_points, domain_length, custom):
+    """A surface indenter: method fft, model exact, goodman or hertz (no auto)."""
+    if method != "fft":
+        raise InputError(f"method {method!r} is for a line indenter (plane strain); 3D "
+                         f"indenters use method fft")
+    if model == "auto":
+        raise InputError("model auto is for a line indenter; use exact, goodman or hertz in 3D")
+    solver = make_method(method, tol, grid_points, domain_length)
+    if model == "hertz":
+        if scene.poisson != 0.5:
+            raise InputError(f"model hertz is the incompressible half-space (poisson 0.5) only; "
+                             f"got poisson {scene.poisson:g}: use model exact or goodman")
+        return solve_hertz3d(scene, solver.tol, grid_points, domain_length)
+    return solver.solve(scene, model)
+
+
+def _solve_line(scene: Scene, model, method, tol, grid_points, domain_length, custom):
+    """A line indenter: any method; model hertz closed form; auto by the fitted bounds."""
     solver = make_method(method, tol, grid_points, domain_length)
     if scene.poisson != 0.5 and model == "hertz":
         raise InputError(f"model hertz is the incompressible half-space (poisson 0.5) only; got "
@@ -97,6 +105,10 @@ def solve_scene(scene: Scene, model: str, method: str, tol: float, grid_points=N
     r.info.update({"auto": chosen, "auto_reason": reason, "auto_bounds": bounds,
                    "auto_provenance": PROVENANCE})
     return r
+
+
+_SOLVE = {"line": _solve_line, "surface": _solve_surface}
+"""What ``solve_scene`` dispatches on: the scene's ``dimension``."""
 
 
 def _viscous_auto(scene: Scene, tol: float, solver) -> ContactResult:
