@@ -104,3 +104,24 @@ def test_open_box_base_tractions_follow_a_friction_law_on_the_goodman_model():
     for name in ("base_sigma_zz", "base_sigma_xz"):
         ref = RegularGridInterpolator((q.x, q.y), getattr(q, name))((X, Y))
         assert np.max(np.abs(getattr(r, name) - ref)) <= 1e-2 * np.max(np.abs(ref)), name
+
+
+def test_open_box_reports_deformation_friction_as_the_periodic_grid():
+    """The open box reports mu_def = Int p df/dx / P (it reported none: Q/P = mu, the interface
+    part only) by the periodic path's function: a small sphere on a compressible film (nu = 0.3:
+    the normal-tangential coupling shifts the pressure; measured mu_def = -1.18e-4, open and
+    periodic 1024^2 within 5e-7), open and periodic agree within their estimates
+    ((h/R) a (est + est): the estimate bounds the centroid's change over the radius, and
+    mu_def = (h/R) x_p), an interval that excludes 0."""
+    from spectral_contact.api import solve
+    kw = dict(indenter="sphere", force=3e-4, mu=0.5, tol=1e-2, poisson=0.3)
+    r = solve(**kw)
+    q = solve(grid_points=1024, **kw)
+    assert r.info["open_box"] and not q.info.get("open_box", False)
+    band = (r.scene.thickness / r.scene.radius) * r.contact_radius * (r.error_estimate
+                                                                      + q.error_estimate)
+    assert abs(r.deformation_friction - q.deformation_friction) <= band
+    assert abs(r.Q_over_P - q.Q_over_P) <= band
+    assert abs(q.deformation_friction) > 3 * band  # so that the open box's former 0 fails
+    assert r.Q_over_P == r.friction_ratio + r.deformation_friction
+    assert r.to_dict()["deformation_friction"] == r.deformation_friction

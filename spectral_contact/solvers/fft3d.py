@@ -517,6 +517,7 @@ class _OpenSolve(_SurfaceSolve):
         uz = -np.ascontiguousarray(sol.sinking[sl])
         szz, sxz, syz, ux, uy, _ = fields
         info.update(_surface_info(lv))
+        info["deformation_friction"] = self.deformation_friction(sol, sol.pressure) + 0.0
         info["open_box"] = True
         info["open_box_note"] = (
             "a contact much smaller than h: solved on an open (non-periodic) box of "
