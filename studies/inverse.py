@@ -25,8 +25,10 @@ of each component, one record per seed:
 3. the paper's route (P = Int S_zz dx, Q/P = Int S_xz / Int S_zz over the record) against the
    local route on the same records, and whether a shear strength is told from Amontons at the
    paper's noise: the share of seeds where Amontons loses by AIC > 2 (strength case).
-4. speed: CPU seconds (``time.process_time``) of records of 401 and 10^4 samples, with and
-   without the hyperparameters' propagation (median of warm runs; the load beside it).
+4. speed: CPU seconds (``time.process_time``) of records of 401 and 10^4 samples, base and
+   sensor views, the auto prior with and without the hyperparameters' propagation and the
+   contact prior alone (median of warm runs; the load beside it), with the number of evidence
+   evaluations and, in the same run, the CPU time of one evaluation and of an FFT pair.
 
 Writes inverse_calibration.csv (one row per record), inverse_summary.csv (means over seeds),
 inverse_sweep.csv, inverse_routes.csv, inverse_speed.csv, inverse_example.csv (a record a new
@@ -109,6 +111,60 @@ def score(tr, inv):
             "aic_amontons_minus_linear": (am.get("aic", np.nan) - lin.get("aic", np.nan)),
             "best_law": laws.get("best"),
             "prior": s["regularisation"].get("prior_choice", {}).get("chosen", "contact")}
+
+
+class _count_evaluations:
+    """Counts the evidence evaluations of the two line priors inside a ``with`` block."""
+
+    def __enter__(self):
+        from spectral_contact.instruments import inverse_evidence, inverse_prior
+
+        self.counts = {"contact": 0, "envelope": 0}
+        self.saved = []
+        for cls, key in ((inverse_prior.ContactPrior, "contact"),
+                         (inverse_evidence._Evidence, "envelope")):
+            orig = cls.evaluate
+
+            def ev(obj, *a, _orig=orig, _key=key, **k):
+                self.counts[_key] += 1
+                return _orig(obj, *a, **k)
+
+            self.saved.append((cls, orig))
+            cls.evaluate = ev
+        return self.counts
+
+    def __exit__(self, *exc):
+        for cls, orig in self.saved:
+            cls.evaluate = orig
+        return False
+
+
+def _unit_times(repeats: int = 51):
+    """CPU seconds (median) of one contact-prior evidence evaluation with its gradient on 60
+    nodes, and of one FFT pair of 8192 points."""
+    from spectral_contact.instruments.inverse_forward import LineForward
+    from spectral_contact.instruments.inverse_prior import ContactPrior
+    from spectral_contact.numerics.fft import get_rfft
+    from spectral_contact.physics.film import Film
+
+    x = np.linspace(-5.0, 5.0, 201)
+    fwd = LineForward.build(x, Film(1.0, 0.5), step=1.0 / 16.0, span=(-1.85, 1.85))
+    d = np.sqrt(np.clip(1 - x**2, 0, None))
+    ev = ContactPrior(fwd, d, 0.5 * d)
+    th = np.array([0.0, 0.0, 0.0, 1.0, 0.5, -3.0, 0.0, -3.0, 0.0, -7.0, -4.6, -4.6])
+    f = get_rfft(8192)
+    a = np.random.default_rng(0).random(8192)
+    sym = np.ones(8192 // 2 + 1, complex)
+
+    def med(fn):
+        ts = []
+        for _ in range(repeats):
+            c0 = time.process_time()
+            fn()
+            ts.append(time.process_time() - c0)
+        return float(np.median(ts))
+
+    return med(lambda: ev.evaluate(th, grad=True)), med(lambda: [f.apply(a, sym) for _ in range(20)]) / 20
 
 
 def summarise(rows, keys):
@@ -223,23 +279,38 @@ def main(argv=None) -> int:
               "paper's route (integrals over the +-10 mm record) vs the local route (sensor view, 1 % "
               "noise)")
     if "speed" in parts:
-        # 4. speed: CPU time of the solve (time.process_time) for 401 and 10^4 samples
+        # 4. speed: CPU time of the solve (time.process_time) for 401 and 10^4 samples, the
+        # evidence evaluations it made (a count the machine's load does not change), and the
+        # CPU time of one evaluation of the contact prior's evidence with its gradient on 60
+        # nodes (the unit of the work) and of an FFT pair of 8192 points, timed in the same run
         speed = []
-        for ns in (401, 10_000):
-            xs = np.linspace(-10e-3, 10e-3, ns)
-            zz, xz = record(truths["amontons"], "base", 0.01, 0, xs)
-            invert_line(xs, zz, xz, hyper=False)
-            for hyper in (False, True):
-                ts = []
-                for _ in range(1 if args.quick else 3):
-                    c0 = time.process_time()
-                    invert_line(xs, zz, xz, hyper=hyper)
-                    ts.append(time.process_time() - c0)
-                speed.append({"samples": ns, "hyper_propagated": hyper,
-                              "median_cpu_s": float(np.median(ts)), "load_1min": os.getloadavg()[0],
-                              "cores": os.cpu_count()})
+        for view in ("base", "sensor"):
+            for ns in (401, 10_000):
+                xs = np.linspace(-10e-3, 10e-3, ns)
+                zz, xz = record(truths["amontons"], view, 0.01, 0, xs)
+                invert_line(xs, zz, xz, view=view, hyper=False)
+                for prior, hyper in (("auto", True), ("auto", False), ("contact", True)):
+                    ts = []
+                    for _ in range(1 if args.quick else 3):
+                        with _count_evaluations() as counts:
+                            c0 = time.process_time()
+                            invert_line(xs, zz, xz, view=view, prior=prior, hyper=hyper)
+                            ts.append(time.process_time() - c0)
+                    unit, pair = _unit_times()
+                    speed.append({"view": view, "samples": ns, "prior": prior,
+                                  "hyper_propagated": hyper,
+                                  "median_cpu_s": float(np.median(ts)),
+                                  "evaluations_contact": counts["contact"],
+                                  "evaluations_envelope": counts["envelope"],
+                                  "evaluation_cpu_ms": unit * 1e3, "fft_pair_cpu_us": pair * 1e6,
+                                  "load_1min": os.getloadavg()[0], "cores": os.cpu_count()})
+                    print(f"  speed {view} {ns} {prior} hyper={hyper}: "
+                          f"{speed[-1]['median_cpu_s']:.2f} s", file=sys.stderr, flush=True)
         table(speed, out / "inverse_speed.csv",
-              "inverse: CPU seconds of one inversion (median of warm runs; process_time, one thread)")
+              "inverse: CPU seconds of one inversion (median of warm runs; process_time, one "
+              "thread), the evidence evaluations it made (contact and envelope priors), and in "
+              "the same run the CPU time of one contact-prior evaluation with gradient (60 "
+              "nodes) and of an FFT pair (8192 points)")
     if "figure" in parts:
         # example record for a new user (strength case, sensor-free, 1 % noise)
         x, p, q, szz, sxz, P, Q = truths["strength"]

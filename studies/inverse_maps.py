@@ -1,6 +1,6 @@
 """Inverse, surfaces: a sliding sphere's base maps back to its tractions (issue 21, study part 3).
 
-    python -m studies.inverse_maps [--quick] [--out DIR] [--seeds N]
+    python -m studies.inverse_maps [--quick] [--out DIR] [--seeds N] [--prior auto|contact|smooth]
 
 Truths: the package's own sliding-sphere solves on the paper's film (h = 2 mm, E = 2.2 MPa,
 R = 130 mm, F = 1 N, sliding toward +x), on the solver's periodic grid of 160 x 160 points
@@ -19,7 +19,8 @@ from the pressure centroid, a_eff = sqrt(area/pi)), over the whole contact (p > 
 it, and in rings of r/a_eff; the same share for R(truth), the truth as the posterior mean sees
 it (``MapInversion.resolve``: the error's resolution part removed), L2 errors of p and q_x
 over the contact (relative to the truth's norm) and of R(truth), the resolution length and
-the prior's smoothness chosen by the evidence; the CPU time of the inversion
+the prior chosen by the evidence (contact or smooth) and the law fitted to the local pairs
+(z-scores of mu, tau0, alpha against the truth, Amontons' p-value, AIC margins); the CPU time of the inversion
 (time.process_time) and the machine's load.
 
 Writes inverse_maps_records.csv (one row per record), inverse_maps_summary.csv (means over
@@ -96,6 +97,21 @@ def score(tr, inv, x, y):
         # against what the inversion can see: R(truth) (resolution, not noise)
         out[f"cover_resolved_contact_{name}"] = float((np.abs(f - rt) <= 2 * s)[c].mean())
         out[f"L2_resolution_{name}"] = float(np.linalg.norm((rt - t)[c]) / np.linalg.norm(t[c]))
+    # the law from the local pairs (truth: amontons mu = 1; strength tau0 = 5 kPa, alpha = 0.5)
+    laws = rec["laws"]
+    am, lin = laws.get("amontons", {}), laws.get("linear", {})
+    nan = float("nan")
+    out["pairs"] = laws.get("pairs", 0)
+    out["z_mu"] = (am["mu"] - 1.0) / am["mu_sigma"] if "mu" in am else nan
+    out["p_value_amontons"] = am.get("p_value", nan)
+    out["z_tau0"] = (lin["tau0_Pa"] - 5e3) / lin["tau0_Pa_sigma"] if "tau0_Pa" in lin else nan
+    out["z_alpha"] = (lin["alpha"] - 0.5) / lin["alpha_sigma"] if "alpha" in lin else nan
+    out["aic_amontons_minus_linear"] = (am["aic"] - lin["aic"] if "aic" in am and "aic" in lin
+                                        else nan)
+    ch = rec["regularisation"]["prior_choice"]
+    out["prior"] = ch["chosen"]
+    out["dlogev_contact_smooth"] = (ch["log_evidence"].get("contact", nan)
+                                    - ch["log_evidence"]["smooth"])
     out["a_eff_over_h"] = float(a / rec["thickness_m"])
     out["resolution_over_h"] = rec["resolution_length_m"] / rec["thickness_m"]
     out["nu"] = rec["regularisation"]["smoothness_nu"]
@@ -104,7 +120,7 @@ def score(tr, inv, x, y):
 
 
 def summarise(rows):
-    keys = [k for k in rows[0] if k not in ("case", "view", "seed", "best_law")]
+    keys = [k for k in rows[0] if k not in ("case", "view", "seed", "best_law", "prior")]
     out = []
     for case, view in sorted({(r["case"], r["view"]) for r in rows}):
         rs = [r for r in rows if r["case"] == case and r["view"] == view]
@@ -117,14 +133,28 @@ def summarise(rows):
         s["share_Qx_1pct"] = float(np.mean([abs(r["err_Qx"]) <= 0.01 for r in rs]))
         s["rms_z_F"] = float(np.sqrt(np.mean([r["z_F"] ** 2 for r in rs])))
         s["rms_z_Qx"] = float(np.sqrt(np.mean([r["z_Qx"] ** 2 for r in rs])))
+        s["share_contact_prior"] = float(np.mean([r["prior"] == "contact" for r in rs]))
+        s["share_best_amontons"] = float(np.mean([r["best_law"] == "amontons" for r in rs]))
+        s["share_best_linear"] = float(np.mean([r["best_law"] == "linear" for r in rs]))
+        s["share_mu_2sigma"] = float(np.mean([abs(r["z_mu"]) <= 2 for r in rs]))
+        s["share_amontons_not_rejected"] = float(np.mean([r["p_value_amontons"] > 0.01
+                                                          for r in rs]))
+        s["share_tau0_alpha_2sigma"] = float(np.mean([abs(r["z_tau0"]) <= 2
+                                                      and abs(r["z_alpha"]) <= 2 for r in rs]))
+        s["share_amontons_loses_aic"] = float(np.mean([r["aic_amontons_minus_linear"] > 2
+                                                       for r in rs]))
         out.append(s)
     return out
 
 
 def main(argv=None) -> int:
-    args, out = parse(argv, __doc__.splitlines()[0], "out/inverse_maps",
-                      extra=lambda p: p.add_argument("--seeds", type=int, default=None,
-                                                     help="noise seeds per case (10; --quick 2)"))
+    def extra(p):
+        p.add_argument("--seeds", type=int, default=None,
+                       help="noise seeds per case (10; --quick 2)")
+        p.add_argument("--prior", choices=("auto", "contact", "smooth"), default="auto",
+                       help="the inversion's prior (auto: the higher evidence)")
+
+    args, out = parse(argv, __doc__.splitlines()[0], "out/inverse_maps", extra=extra)
     seeds = args.seeds or (2 if args.quick else 10)
     cases = (("amontons", "base"), ("amontons", "sensor"), ("strength", "base"))
     if args.quick:
@@ -140,7 +170,7 @@ def main(argv=None) -> int:
         for seed in range(seeds):
             d = record(tr, view, 0.01, seed)
             c0 = time.process_time()
-            inv = invert_maps(x, y, *d, thickness=0.002, view=view)
+            inv = invert_maps(x, y, *d, thickness=0.002, view=view, prior=args.prior)
             cpu = time.process_time() - c0
             rows.append({"case": case, "view": view, "seed": seed, **score(tr, inv, x, y),
                          "cpu_s": cpu, "load_1min": os.getloadavg()[0]})

@@ -258,3 +258,22 @@ def test_text_summary_gives_the_laws_reason(tmp_path, capsys):
     out = capsys.readouterr().out
     line = [ln for ln in out.splitlines() if "best law" in ln][0]
     assert "None" not in line and "resolved" in line
+
+
+def test_auto_screen_does_not_skip_a_winning_envelope(amontons):
+    """``auto`` fits the envelope prior on its own nodes unless its cheap screen (nodes every
+    h/2) is more than SCREEN_NATS below the contact prior's evidence.  On a noise-free record
+    the envelope wins (by its noise floor, ~1500 nats): the screen must pass it on, and the
+    full envelope fit is the one kept; on a noisy record the contact prior wins and the
+    screen's evidence is reported below the contact's."""
+    from spectral_contact.instruments.inverse import SCREEN_NATS
+
+    zz, xz = _record(amontons, 0.0, 0)
+    c = invert_line(X, zz, xz).record["regularisation"]["prior_choice"]
+    assert c["chosen"] == "envelope" and c["envelope_screened"] is None
+    assert c["log_evidence_envelope"] > c["log_evidence_contact"]
+    zz, xz = _record(amontons, 0.01, 3)
+    c = invert_line(X, zz, xz).record["regularisation"]["prior_choice"]
+    assert c["chosen"] == "contact"
+    if c["envelope_screened"] is not None:
+        assert c["log_evidence_envelope"] < c["log_evidence_contact"] - SCREEN_NATS

@@ -366,7 +366,7 @@ def test_a_film_kind_is_named_by_its_module_and_the_scene_only():
             if isinstance(node, ast.Name) and node.id == "ViscoelasticFilm" or \
                     isinstance(node, ast.alias) and node.name == "ViscoelasticFilm":
                 naming.add(path.relative_to(root).as_posix())
-    # its own module (where it may or may not name itself) and the scene, no other
+    # (its own module may name it or not: the class is defined there)
     assert naming - {"physics/viscoelastic.py"} == {"physics/scene.py"}, naming
     opts = [o.name for o in OPTIONS if o.name in ("speed", "prony")]
     assert opts == ["speed", "prony"]  # its parameters: rows of the one declaration

@@ -199,6 +199,13 @@ def _bin(x, zz, xz, step):
             xz[:n].reshape(-1, k).mean(axis=1), k)
 
 
+PROPAGATE_MIN_WEIGHT = 0.05
+"""Profile points of smaller weight enter the mixture at their hyperparameters (no Laplace step
+for the others: it costs 2 d evaluations of the evidence with the gradient, and these points
+carry 5-10 % of the weight together); their window's edge sd is the weighted mean of the
+propagated points'."""
+
+
 def _mix_modes(ev, modes, free, hyper, h, known):
     """Posterior mean and covariance mixed over the evidence's maxima (weights exp(log-evidence),
     normalised), each with its hyperparameters' uncertainty propagated when ``hyper``; the
@@ -210,10 +217,10 @@ def _mix_modes(ev, modes, free, hyper, h, known):
     held = free.copy()
     if len(modes) > 1:  # l_p is integrated by the profile's points (``inverse_prior._modes``)
         held[3] = False
-    for th, _ in modes:
+    for (th, _), wt in zip(modes, wts):
         _, (mk, ck, _) = ev.evaluate(th, full=True)
         sig, idx = None, []
-        if hyper:
+        if hyper and (wt >= PROPAGATE_MIN_WEIGHT or len(modes) == 1):
             mk, ck, sig, idx = propagate(ev, th, held, mk, ck)
         means.append(mk)
         covs.append(ck)
@@ -406,6 +413,10 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
         # the contact interval is the prior's window, with its Laplace sd
         e = np.array([w[0] for w in windows])
         v = np.array([w[1] for w in windows]) ** 2
+        for i in (0, 1):  # points not propagated (PROPAGATE_MIN_WEIGHT): the others' mean
+            ok = np.isfinite(v[:, i])
+            if ok.any() and not ok.all():
+                v[~ok, i] = weights[ok] @ v[ok, i] / weights[ok].sum()
         ebar = weights @ e
         interval = [float(ebar[0]), float(ebar[1])]
         interval_sd = [float(math.sqrt(max(weights @ (v[:, i] + (e[:, i] - ebar[i]) ** 2), 0.0)))

@@ -102,7 +102,10 @@ BORDER_REL = 1e-3
 """A record is a window (refused) if its re-predicted border data exceed this many noise sd
 and ``BORDER_REL`` of the data's peak (noise-free records: the peak alone)."""
 RESOLVED_Z = 3.0
-LAW_EDGE_GUARD = 1.0
+LAW_EDGE_GUARD = {"smooth": 1.0, "contact": 0.5}
+"""Pairs at least this many resolution lengths inside the resolved region, by prior (the
+contact prior's covariance carries the edges' uncertainty; the smooth prior's bias there is
+not in its covariance)."""
 LAW_MAX_PAIRS = 300
 
 MAP_INVERT_JSON_KEYS = ("force_N", "force_sigma_N", "tangential_force_x_N",
@@ -187,7 +190,7 @@ def _smooth_posterior(M, Y, shape, steps, ds, smoothness, say, logscale):
 
 
 def _contact_posterior(M, Y, shape, steps, smooth, say, logscale):
-    from .inverse_maps_contact import fit_contact
+    from .inverse_maps_contact import PRIOR_NAMES, fit_contact, propagate
 
     nx, ny = shape
     tot = smooth.mean.sum(axis=(1, 2))
@@ -198,8 +201,12 @@ def _contact_posterior(M, Y, shape, steps, smooth, say, logscale):
         M, Y, shape, steps, smooth.noise, e, smooth.mean[0], math.sqrt(smooth.var[0, 0, 0]),
         mu_start, progress=say)
     mean, var, C0, Z, (bx, by), Zsum = prior.posterior(th, s_out)
+    say("contact prior: the hyperparameters' uncertainty (Laplace)")
+    J, Sig, sd_th = propagate(prior, th, s_out)
+    var = var + np.einsum("fxyi,ij,fxyj->fxy", J, Sig, J)
+    Jsum = J.sum(axis=(1, 2))                                   # (3, 8)
     N = nx * ny
-    tot_cov = N * C0[0, 0].real + Zsum @ Zsum.T
+    tot_cov = N * C0[0, 0].real + Zsum @ Zsum.T + Jsum @ Sig @ Jsum.T
     px = np.full(nx, -1)
     px[bx] = np.arange(bx.size)
     py = np.full(ny, -1)
@@ -212,7 +219,8 @@ def _contact_posterior(M, Y, shape, steps, smooth, say, logscale):
         bi, bj = (px[ci[:, 0]], py[ci[:, 1]]), (px[cj[:, 0]], py[cj[:, 1]])
         if min(v.min() for v in bi + bj) < 0:
             raise ValueError("cells outside the contact prior's covariance box")
-        return _lagged(kern[a][b], ci, cj, shape) + Z[a][bi] @ Z[b][bj].T
+        return (_lagged(kern[a][b], ci, cj, shape) + Z[a][bi] @ Z[b][bj].T
+                + J[a][ci[:, 0], ci[:, 1]] @ Sig @ J[b][cj[:, 0], cj[:, 1]].T)
 
     def resolve(f):
         fk = np.moveaxis(np.fft.rfft2(np.asarray(f, float), axes=(1, 2)), 0, -1)
@@ -227,11 +235,13 @@ def _contact_posterior(M, Y, shape, steps, smooth, say, logscale):
            "mu0": float(th[6]), "direction": [float(e[0]), float(e[1])],
            "amplitude_scaled": float(math.exp(th[4])), "nugget_scaled": float(s_out),
            "chosen_by": "maximum evidence (Woodbury on the ellipse's unknowns, exact)",
-           "optimizer_converged": bool(opt.success)}
+           "optimizer_converged": bool(opt.success),
+           "hyperparameter_sd": dict(zip(PRIOR_NAMES, map(float, sd_th)))}
     return _Posterior(name="contact", mean=mean, var=var, tot=tot_cov, cov=cov,
                       resolve=resolve, psf=smooth.psf, noise=smooth.noise, logev=logev, reg=reg,
-                      variance="exact for the contact prior at its evidence-maximising "
-                               "hyperparameters (nugget: per mode; ellipse: dense)")
+                      variance="the contact prior's posterior at its evidence-maximising "
+                               "hyperparameters (nugget: per mode; ellipse: dense), plus the "
+                               "hyperparameters' own uncertainty to first order (Laplace)")
 
 
 def invert_maps(x_m, y_m, zz_Pa, xz_Pa, yz_Pa, *, thickness: float = 0.002,
@@ -277,6 +287,7 @@ def invert_maps(x_m, y_m, zz_Pa, xz_Pa, yz_Pa, *, thickness: float = 0.002,
     first = (KERNEL_NU,) if prior == "auto" and KERNEL_NU in smoothness else smoothness
     post = smooth = _smooth_posterior(M, Y, (nx, ny), (dx, dy), ds, first, say, logscale)
     choice = {"smooth": float(smooth.logev - logscale)}
+    _border_check(_predict(M, smooth.mean), smooth.noise)  # a window: refused before the rest
     if prior in ("auto", "contact"):
         try:
             contact = _contact_posterior(M, Y, (nx, ny), (dx, dy), smooth, say, logscale)
@@ -313,12 +324,17 @@ def _border_check(fit, noise):
     return border_z
 
 
+def _predict(M, f):
+    """The data M f (3, nx, ny) of tractions f (3, nx, ny)."""
+    fk = np.moveaxis(np.fft.rfft2(f, axes=(1, 2)), 0, -1)
+    return np.fft.irfft2(np.moveaxis(np.einsum("...ij,...j->...i", M, fk), -1, 0),
+                         s=f.shape[1:], axes=(1, 2))
+
+
 def _finish(x, y, d, scale, M, post, choice, steps, h, nu, view):
     nx, ny = x.size, y.size
     dx, dy = steps
-    mean_k = np.moveaxis(np.fft.rfft2(post.mean, axes=(1, 2)), 0, -1)
-    fit = np.fft.irfft2(np.moveaxis(np.einsum("...ij,...j->...i", M, mean_k), -1, 0),
-                        s=(nx, ny), axes=(1, 2))
+    fit = _predict(M, post.mean)
     noise = post.noise
     border_z = _border_check(fit, noise)
     cellA = dx * dy * h * h
@@ -356,8 +372,8 @@ def _finish(x, y, d, scale, M, post, choice, steps, h, nu, view):
            "variance": post.variance,
            "view": view, "points": [int(nx), int(ny)], "thickness_m": h, "poisson": nu,
            "resolved_rule": f"laws on cells where p > {RESOLVED_Z:g} sd(p), at least "
-                            f"{LAW_EDGE_GUARD:g} resolution lengths inside that region, on a "
-                            f"lattice of half a resolution length",
+                            f"{LAW_EDGE_GUARD[post.name]:g} resolution lengths inside that "
+                            f"region, on a lattice of half a resolution length",
            "laws": laws}
     data = {"data": d, "fit": fit * scale}
     mm, sdm = post.mean * scale, sd * scale
@@ -385,7 +401,8 @@ def _laws(post, mean, sd, scale, shape, steps, res, Q):
     q = e[0] * qx + e[1] * qy
     resolved = p > RESOLVED_Z * sd[0]
     dist = distance_transform_edt(resolved, sampling=(dx, dy))
-    inside = resolved & (dist > LAW_EDGE_GUARD * res)
+    guard = LAW_EDGE_GUARD[post.name]
+    inside = resolved & (dist > guard * res)
     sx, sy = max(1, int(round(0.5 * res / dx))), max(1, int(round(0.5 * res / dy)))
     lattice = np.zeros(shape, bool)
     lattice[::sx, ::sy] = True
@@ -394,7 +411,7 @@ def _laws(post, mean, sd, scale, shape, steps, res, Q):
         sel = sel[np.linspace(0, len(sel) - 1, LAW_MAX_PAIRS).astype(int)]
     empty = {"p": np.zeros(0), "q": np.zeros(0), "p_sd": np.zeros(0), "q_sd": np.zeros(0)}
     if len(sel) < 3:
-        return empty, {"note": f"only {len(sel)} resolved cells at least {LAW_EDGE_GUARD:g} "
+        return empty, {"note": f"only {len(sel)} resolved cells at least {guard:g} "
                                f"resolution lengths inside the contact: no law fitted",
                        "best": None}
     s2 = scale * scale

@@ -43,9 +43,13 @@ import math
 
 import numpy as np
 
+from .inverse_maps_forward import inv_logdet3
 from .inverse_maps_forward import mode_weights as _weights
 
-__all__ = ["ContactMapPrior", "fit_contact"]
+__all__ = ["ContactMapPrior", "fit_contact", "propagate", "PRIOR_NAMES"]
+
+PRIOR_NAMES = ("centre_x_h", "centre_y_h", "log_semi_axis_x", "log_semi_axis_y", "log_s_p",
+               "log_l_p", "mu0", "log_l_r")
 
 LATTICE = 0.33
 """The lattice step of g in units of the initial mean semi-axis."""
@@ -54,6 +58,8 @@ _ROUND = 0.1
 _SUPER = 1.5
 """The ellipse may grow to this factor of its initial semi-axes (the lattice covers it)."""
 _JITTER = 1e-9
+ITERATIONS = (15, 8)
+"""L-BFGS-B iterations before and after the nugget's choice."""
 NUGGET_DECADES = 4
 """The nugget sd is chosen by evidence among s0, s0/10, ... (this many values; s0 the
 stationary fit's pointwise sd)."""
@@ -141,18 +147,18 @@ class ContactMapPrior:
         ly = y0 + (used % nly) * step
         self.m = used.size
         self.dist = np.hypot(lx[:, None] - lx[None, :], ly[:, None] - ly[None, :])
-        self._s0 = None
+        self._s0 = {}
+        self._gsub = {}
 
     # -- the nugget's stationary part ------------------------------------------------------
     def _stationary(self, s_out):
         """Per-mode S0^-1, kernel of M^H S0^-1 M, b = M^H S0^-1 y, y^T S0^-1 y, log det S0."""
-        if self._s0 is not None and self._s0[0] == s_out:
-            return self._s0[1]
+        if s_out in self._s0:
+            return self._s0[s_out]
         M = self.M
         S0 = s_out**2 * np.einsum("...ij,...kj->...ik", M, M.conj())
         S0[..., [0, 1, 2], [0, 1, 2]] += self.noise2
-        Si = np.linalg.inv(S0)
-        _, logdet = np.linalg.slogdet(S0)
+        Si, logdet = inv_logdet3(S0)
         Kn = np.einsum("...ki,...kl,...lj->...ij", M.conj(), Si, M)
         Kn = 0.5 * (Kn + np.swapaxes(Kn.conj(), -1, -2))
         a = np.einsum("...ij,...j->...i", Si, self.Y)
@@ -165,18 +171,23 @@ class ContactMapPrior:
             for j in range(3):
                 kern[i, j] = np.fft.irfft2(Kn[..., i, j], s=self.shape)
         ci, cj = self.cells[:, 0], self.cells[:, 1]
+        bw = np.concatenate([b[f][ci, cj] for f in range(3)])
+        out = {"Si": Si, "Kn": Kn, "quad": quad, "logdet": ld, "kern": kern, "bw": bw}
+        self._s0[s_out] = out
+        self._gsub = {}
+        return out
+
+    def _gram(self, kern, act):
+        """M^H S0^-1 M between the active cells (3 n_a x 3 n_a), from its kernel."""
+        ci, cj = self.cells[act, 0], self.cells[act, 1]
         di = (ci[:, None] - ci[None, :]) % self.shape[0]
         dj = (cj[:, None] - cj[None, :]) % self.shape[1]
-        n = len(self.cells)
+        n = act.size
         Gc = np.empty((3 * n, 3 * n))
         for i in range(3):
             for j in range(3):
                 Gc[i * n:(i + 1) * n, j * n:(j + 1) * n] = kern[i, j][di, dj]
-        Gc = 0.5 * (Gc + Gc.T)
-        bw = np.concatenate([b[f][ci, cj] for f in range(3)])
-        out = {"Si": Si, "Kn": Kn, "quad": quad, "logdet": ld, "Gc": Gc, "bw": bw}
-        self._s0 = (s_out, out)
-        return out
+        return 0.5 * (Gc + Gc.T)
 
     # -- the window's part -------------------------------------------------------------------
     def window(self, th):
@@ -209,16 +220,19 @@ class ContactMapPrior:
                          [mu0 * ey * WP, Z, WP, z1, ind_c]], format="csr")
         return U, act, nodes
 
-    def Lchol(self, th, nodes):
+    def Lchol(self, th, nodes, blocks=False):
+        """The prior's Cholesky factor on the active nodes (block diagonal: g_p, g_x, g_y, tau);
+        ``blocks``: the list of the four blocks instead of the matrix."""
         from scipy.linalg import block_diag
 
         s = math.exp(th[4])
         lp, lr = math.exp(th[5]), math.exp(th[7])
         d = self.dist[np.ix_(nodes, nodes)]
         eye = np.eye(nodes.size)
-        Lp = np.linalg.cholesky(_matern52(d, lp) + _JITTER * eye)
-        Lr = np.linalg.cholesky(_matern52(d, lr) + _JITTER * eye)
-        return s * block_diag(Lp, Lr, Lr, np.eye(2))
+        Lp = s * np.linalg.cholesky(_matern52(d, lp) + _JITTER * eye)
+        Lr = Lp if lr == lp else s * np.linalg.cholesky(_matern52(d, lr) + _JITTER * eye)
+        parts = [Lp, Lr, Lr, s * np.eye(2)]
+        return parts if blocks else block_diag(*parts)
 
     def _rows(self, act):
         n = len(self.cells)
@@ -228,12 +242,26 @@ class ContactMapPrior:
         st = self._stationary(s_out)
         U, act, nodes = self.U(th)
         rows = self._rows(act)
-        Gc = st["Gc"][np.ix_(rows, rows)]
+        key = (id(st), act.tobytes())
+        Gc = self._gsub.get(key)
+        if Gc is None:  # the active cells change only when the ellipse crosses a cell
+            Gc = self._gram(st["kern"], act)
+            self._gsub = {key: Gc}
         GU = (U.T @ Gc).T          # Gc U (Gc symmetric)
         G = np.asarray(U.T @ GU)
         G = 0.5 * (G + G.T)
-        L = self.Lchol(th, nodes)
-        B = np.eye(L.shape[0]) + L.T @ G @ L
+        parts = self.Lchol(th, nodes, blocks=True)
+        from scipy.linalg import block_diag
+
+        L = block_diag(*parts)
+        # L^T G L block by block (L is block diagonal)
+        cuts = np.cumsum([0] + [q.shape[0] for q in parts])
+        B = np.empty_like(G)
+        for i, Li in enumerate(parts):
+            GiL = [G[cuts[i]:cuts[i + 1], cuts[j]:cuts[j + 1]] @ Lj for j, Lj in enumerate(parts)]
+            for j in range(len(parts)):
+                B[cuts[i]:cuts[i + 1], cuts[j]:cuts[j + 1]] = Li.T @ GiL[j]
+        B[np.diag_indices_from(B)] += 1.0
         cB = np.linalg.cholesky(B)
         v = U.T @ st["bw"][rows]
         t = np.linalg.solve(cB, L.T @ v)
@@ -355,7 +383,7 @@ def fit_contact(M, Y, shape, steps, noise, e, p_start, s_out0, mu_start, progres
     s_out = s_out0
     th = th0
     res = None
-    for rnd, (iters, nug) in enumerate(((20, True), (10, False))):
+    for rnd, (iters, nug) in enumerate(((ITERATIONS[0], True), (ITERATIONS[1], False))):
         say(f"contact prior: evidence over the ellipse and the fields (round {rnd + 1})")
         res = minimize(lambda z: -prior.evidence(z, s_out), th, method="L-BFGS-B",
                        bounds=list(zip(lo, hi)),
@@ -371,3 +399,35 @@ def fit_contact(M, Y, shape, steps, noise, e, p_start, s_out0, mu_start, progres
             break
         s_out = s_new
     return prior, th, s_out, prior.evidence(th, s_out), res
+
+
+LAPLACE_STEPS = (0.01, 0.01, 0.005, 0.005, 0.02, 0.05, 0.02, 0.05)
+"""Difference steps of the hyperparameters (c_x, c_y [h]; the others in log or plain units)
+for the Hessian of the log-evidence and the Jacobian of the mean."""
+MIN_CURVATURE = 1.0
+"""Directions of the hyperparameters where the log-evidence curves less than this (its width
+above 1 unit: a length the data hardly constrain) are given this curvature."""
+
+
+def propagate(prior, th, s_out):
+    """The hyperparameters' uncertainty (Laplace, flat prior on theta): Sigma_theta = (-H)^-1
+    from central differences of the log-evidence, and J = d mean / d theta (central
+    differences of the posterior mean, scaled units, (3, nx, ny, 8)).  The tractions'
+    covariance gains J Sigma_theta J^T.  Returns (J, Sigma_theta, sd_theta)."""
+    n = len(th)
+    hs = np.asarray(LAPLACE_STEPS, float)
+    f0 = prior.evidence(th, s_out)
+    E = np.eye(n) * hs
+    fp = np.array([prior.evidence(th + E[i], s_out) for i in range(n)])
+    fm = np.array([prior.evidence(th - E[i], s_out) for i in range(n)])
+    H = np.diag((fp - 2.0 * f0 + fm) / hs**2)
+    for i in range(n):
+        for j in range(i):
+            fpp = prior.evidence(th + E[i] + E[j], s_out)
+            H[i, j] = H[j, i] = (fpp - fp[i] - fp[j] + f0) / (hs[i] * hs[j])
+    w, V = np.linalg.eigh(-0.5 * (H + H.T))
+    Sig = (V / np.maximum(w, MIN_CURVATURE)) @ V.T
+    J = np.stack([(prior.mean_of(th + E[i], s_out, prior.Y)
+                   - prior.mean_of(th - E[i], s_out, prior.Y)) / (2.0 * hs[i])
+                  for i in range(n)], -1)
+    return J, Sig, np.sqrt(np.diag(Sig))

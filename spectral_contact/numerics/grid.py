@@ -83,11 +83,11 @@ class Grid:
     def size(self) -> int:
         return int(np.prod(self.shape))
 
-    @property
+    @cached_property  # (computed once: ~35 reads per paper-scene solve; the grid is frozen)
     def spacing(self) -> tuple:
         return tuple(L / n for n, L in zip(self.shape, self.lengths))
 
-    @property
+    @cached_property
     def cell(self) -> float:
         """Length (1D) or area (2D) of one cell: the weight of a node in an integral."""
         return float(math.prod(self.spacing))  # the same products as np.prod, in order

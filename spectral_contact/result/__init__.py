@@ -39,9 +39,9 @@ JSON_KEYS = (
     "iterations", "residual", "error_estimate", "tolerance_met", "wall_time_s", "plan_time_s",
 )
 PROFILE_COLUMNS = ("x_m", "pressure_Pa", "surface_shear_Pa", "base_sigma_zz_Pa", "base_sigma_xz_Pa")
-_SCALARS = ("half_width", "center", "indentation", "max_pressure", "max_pressure_x", "grid_points",
+_SCALARS_LINE = ("half_width", "center", "indentation", "max_pressure", "max_pressure_x", "grid_points",
             "domain_length", "iterations", "residual", "error_estimate")
-_ARRAYS = ("x", "pressure", "base_sigma_zz", "base_sigma_xz")
+_ARRAYS_LINE = ("x", "pressure", "base_sigma_zz", "base_sigma_xz")
 
 
 class _SI:
@@ -162,6 +162,26 @@ def _with_views(dimension: str):
     return install
 
 
+def _diagnostics(cls):
+    """Append the fields every result ends with, after its dimension's own (their order is the
+    constructor's): iterations, residual (relative), error_estimate (relative), wall_time_s
+    (solve only), plan_time_s (FFT planning), info (free-form: method details), counters
+    (``COUNTER_KEYS``), shear (the surface shear along x when it is not mu_d p: friction laws,
+    issue 14; None otherwise).  Applied before ``dataclass``."""
+    fields = (("iterations", "int", None), ("residual", "float", None),
+              ("error_estimate", "float", None), ("wall_time_s", "float", 0.0),
+              ("plan_time_s", "float", 0.0), ("info", "dict", field(default_factory=dict)),
+              ("counters", "dict", field(default_factory=lambda: dict.fromkeys(COUNTER_KEYS, 0))),
+              ("shear", "np.ndarray | None", None))
+    annotations = cls.__dict__.get("__annotations__", {})
+    for name, kind, default in fields:
+        annotations[name] = kind
+        if default is not None or name == "shear":
+            setattr(cls, name, default)
+    cls.__annotations__ = annotations
+    return cls
+
+
 class Result:
     """What a line's and a surface's results share (``ContactResult``, ``ContactResult3D``):
     ``dimension`` ("line" or "surface"), the SI views of ``SI_VIEWS``, the friction ratios, the
@@ -212,6 +232,29 @@ class Result:
         """With model "auto": which model was chosen and why (else None)."""
         return self.info.get("auto_reason")
 
+    @property
+    def friction_ratio(self) -> float:
+        """The macroscopic Q/P of the interface, Int q / Int p (mu_d for Amontons; 0 without
+        contact)."""
+        if self.shear is None:
+            return float(self.scene.mu)
+        P = float(np.sum(self.pressure))
+        return float(np.sum(self.shear)) / P if P > 0 else 0.0
+
+    _SCALARS: tuple = ()  # compared by ``==`` (after scene, model and method), then _ARRAYS
+    _ARRAYS: tuple = ()
+
+    def __eq__(self, other) -> bool:
+        """Equal when scene, model, method, every scalar and every field are equal (timings,
+        ``info`` ignored).  Never raises (arrays are compared whole)."""
+        if not isinstance(other, type(self)):
+            return NotImplemented
+        if (self.model, self.method) != (other.model, other.method) or self.scene != other.scene:
+            return False
+        if any(getattr(self, n) != getattr(other, n) for n in self._SCALARS):
+            return False
+        return all(np.array_equal(getattr(self, n), getattr(other, n)) for n in self._ARRAYS)
+
     def _viscoelastic_record(self) -> dict:
         """The viscoelastic film's keys of the JSON record (issue 23; none for an elastic one)."""
         if getattr(self.scene, "viscoelastic", False):
@@ -227,6 +270,7 @@ class Result:
 
 @dataclass(repr=False, eq=False)
 @_with_views("line")
+@_diagnostics
 class ContactResult(Result):
     """Solution of one scene.
 
@@ -269,24 +313,12 @@ class ContactResult(Result):
     max_pressure_x: float
     grid_points: int
     domain_length: float
-    iterations: int
-    residual: float
-    error_estimate: float
-    wall_time_s: float = 0.0
-    plan_time_s: float = 0.0
-    info: dict = field(default_factory=dict)
-    counters: dict = field(default_factory=lambda: dict.fromkeys(COUNTER_KEYS, 0))
-    shear: np.ndarray | None = None  # the surface shear q(x) when it is not mu_d p (friction laws)
+    # then the diagnostics (``_diagnostics``): iterations, residual, error_estimate,
+    # wall_time_s, plan_time_s, info, counters, shear (q(x) when it is not mu_d p)
+
+    _SCALARS, _ARRAYS = _SCALARS_LINE, _ARRAYS_LINE
 
     # --- SI views -----------------------------------------------------------------------------
-    @property
-    def friction_ratio(self) -> float:
-        """The macroscopic Q/P = Int q dx / Int p dx (mu_d for Amontons; 0 without contact)."""
-        if self.shear is None:
-            return float(self.scene.mu)
-        P = float(np.sum(self.pressure))
-        return float(np.sum(self.shear)) / P if P > 0 else 0.0
-
     @property
     def x0(self) -> float:
         """The paper's x0: apex position relative to the contact centre (= -center), in h."""
@@ -357,18 +389,6 @@ class ContactResult(Result):
                 f"d={self.indentation_m * 1e6:.5g} um, p_max={self.max_pressure_Pa * kPa:.5g} kPa | "
                 f"N={self.grid_points}, error estimate {self.error_estimate:.1e}>")
 
-    def __eq__(self, other) -> bool:
-        """Equal when scene, model, method, every scalar and every profile are equal (timings,
-        ``info`` ignored).  Never raises (arrays are compared whole)."""
-        if not isinstance(other, ContactResult):
-            return NotImplemented
-        if (self.scene, self.model, self.method) != (other.scene, other.model, other.method):
-            return False
-        for name in _SCALARS:
-            if getattr(self, name) != getattr(other, name):
-                return False
-        return all(np.array_equal(getattr(self, n), getattr(other, n)) for n in _ARRAYS)
-
     def profiles(self) -> dict:
         """Profile columns in SI (see ``PROFILE_COLUMNS``), apex frame."""
         return {
@@ -419,6 +439,7 @@ MAP_KEYS = ("x_m", "y_m", "pressure_Pa", "base_sigma_zz_Pa", "base_sigma_xz_Pa",
 
 @dataclass(repr=False, eq=False)
 @_with_views("surface")
+@_diagnostics
 class ContactResult3D(Result):
     """Solution of one 3D scene (``physics.scene.Scene3D``): fields on the surface grid.
 
@@ -455,14 +476,8 @@ class ContactResult3D(Result):
     measures: dict
     grid_points: tuple
     domain_length: tuple
-    iterations: int
-    residual: float
-    error_estimate: float
-    wall_time_s: float = 0.0
-    plan_time_s: float = 0.0
-    info: dict = field(default_factory=dict)
-    counters: dict = field(default_factory=lambda: dict.fromkeys(COUNTER_KEYS, 0))
-    shear: np.ndarray | None = None  # surface shear q(x, y) along x when not mu_d p (issue 14)
+    # then the diagnostics (``_diagnostics``): iterations, residual, error_estimate,
+    # wall_time_s, plan_time_s, info, counters, shear (q(x, y) along x when not mu_d p)
 
     # --- the measures, dimensionless (``numerics.measure2d``; their SI views: ``SI_VIEWS``) ---
     @property
@@ -474,6 +489,8 @@ class ContactResult3D(Result):
     def contact_radius(self) -> float:
         """sqrt(area / pi), in h."""
         return float(np.sqrt(self.measures["area"] / np.pi))
+
+    _SCALARS, _ARRAYS = ("measures",), _ARRAYS_3D
 
     contact_area = property(lambda self: self.measures["area"], doc="contact area, in h^2")
     contact_x_min = property(lambda self: self.measures["x_min"], doc="rear end along x, in h")
@@ -488,13 +505,6 @@ class ContactResult3D(Result):
     max_pressure_y = property(lambda self: self.measures["ymax"], doc="where it peaks along y")
     line_load_y0 = property(lambda self: self.measures["line_load_y0"],
                             doc="the line load on y = 0, in E h^2/6R")
-
-    @property
-    def friction_ratio(self) -> float:
-        """The interface's Int q / Int p (mu_d for Amontons)."""
-        if self.shear is None:
-            return float(self.scene.mu)
-        return float(np.sum(self.shear)) / max(float(np.sum(self.pressure)), 1e-300)
 
     @property
     def deformation_friction(self) -> float:
@@ -530,17 +540,6 @@ class ContactResult3D(Result):
                 f"d={r['indentation_m'] * 1e6:.5g} um, p_max={r['max_pressure_Pa'] / 1e3:.5g} kPa | "
                 f"grid {self.grid_points[0]}x{self.grid_points[1]}, error estimate "
                 f"{self.error_estimate:.1e}>")
-
-    def __eq__(self, other) -> bool:
-        """Equal when scene, model, method, measures and every field are equal (timings and
-        ``info`` ignored)."""
-        if not isinstance(other, ContactResult3D):
-            return NotImplemented
-        if (self.model, self.method, self.measures) != (other.model, other.method, other.measures):
-            return False
-        if self.scene != other.scene:
-            return False
-        return all(np.array_equal(getattr(self, n), getattr(other, n)) for n in _ARRAYS_3D)
 
     def plot(self, sensor: dict | None = None, window: float = 3.0):
         """Maps of the pressure and the three base tractions (with ``sensor``, from

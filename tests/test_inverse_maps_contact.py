@@ -1,0 +1,101 @@
+"""The surface inverse's contact prior (issue 21, maps): bands over the contact and the local
+friction law from maps, on the small records of test_inverse_maps (48 x 48 cells of h/4, a
+disc of radius 1.2 h with a square-root edge)."""
+import numpy as np
+import pytest
+
+from spectral_contact.instruments import inverse_maps as im
+
+from .test_inverse_maps import MU, STEP, H, X, Y, _maps, _tractions
+
+TAU0, ALPHA = 8e3, 0.4
+
+
+def _cover(inv, truth, centre=(0.3 * H, -0.2 * H), a=1.2 * H):
+    XX, YY = np.meshgrid(X, Y, indexing="ij")
+    r = np.hypot(XX - centre[0], YY - centre[1]) / a
+    c = truth[0] > 0
+    out = []
+    for f, t, s in zip((inv.pressure_Pa, inv.shear_x_Pa, inv.shear_y_Pa), truth,
+                       (inv.pressure_sd_Pa, inv.shear_x_sd_Pa, inv.shear_y_sd_Pa)):
+        ok = np.abs(f - t) <= 2 * s
+        out.append((ok[r < 0.7].mean(), ok[c].mean()))
+    return out
+
+
+@pytest.fixture(scope="module")
+def disc():
+    truth, d = _maps(0.01, 5)
+    return truth, im.invert_maps(X, Y, *d, thickness=H)
+
+
+def test_contact_prior_bands(disc):
+    """1 % noise: the evidence keeps the contact prior (by hundreds of log units here), whose
+    2-sd band holds the truth at >= 90 % of the central 70 % of the contact for p, q_x and q_y
+    and at >= 85 % of the whole contact for q (the smooth prior: ~0.2-0.4, studies/README).
+    Over the whole contact p's band holds 70-80 % on this coarse grid: the edge falls inside
+    cells of h/4 (a tenth of the radius) and the cells cut by it are the misses; the sphere's
+    finer maps reach 0.8 (the study)."""
+    truth, inv = disc
+    reg = inv.summary()["regularisation"]
+    ch = reg["prior_choice"]
+    assert ch["chosen"] == "contact"
+    assert ch["log_evidence"]["contact"] > ch["log_evidence"]["smooth"] + 100
+    (pc, pa), (qc, qa), (yc, ya) = _cover(inv, truth)
+    assert min(pc, qc, yc) >= 0.9
+    assert qa >= 0.85 and ya >= 0.85
+    assert pa >= 0.7
+    # the ellipse found by evidence is the disc
+    assert reg["centre_h"][0] * H + X[0] == pytest.approx(0.3 * H, abs=0.25 * STEP)
+    assert np.mean(reg["semi_axes_h"]) * H == pytest.approx(1.2 * H, rel=0.1)
+    # the L2 error of p over the contact: a few per cent (the smooth prior: ~9 %)
+    p = truth[0]
+    c = p > 0
+    assert np.linalg.norm((inv.pressure_Pa - p)[c]) < 0.05 * np.linalg.norm(p[c])
+
+
+def test_smooth_prior_forced(disc):
+    """prior='smooth' keeps the stationary prior (uniform sd) and records both evidences only
+    when both were fitted."""
+    truth, d = _maps(0.01, 5)
+    inv = im.invert_maps(X, Y, *d, thickness=H, prior="smooth")
+    reg = inv.summary()["regularisation"]
+    assert reg["prior_choice"]["chosen"] == "smooth"
+    assert "contact" not in reg["prior_choice"]["log_evidence"]
+    assert np.ptp(inv.pressure_sd_Pa) == 0.0
+    assert np.ptp(disc[1].pressure_sd_Pa) > 0.0  # the contact prior's sd varies
+    with pytest.raises(im.InputError):
+        im.invert_maps(X, Y, *d, thickness=H, prior="other")
+
+
+def test_laws_amontons_not_rejected(disc):
+    """q = mu p on the disc: the Amontons fit from the map's local pairs gives mu within 2
+    sigma and is not rejected (chi^2 p-value > 0.01)."""
+    laws = disc[1].laws
+    a = laws["amontons"]
+    assert abs(a["mu"] - MU) < 2 * a["mu_sigma"]
+    assert a["p_value"] > 0.01
+    assert laws["pairs"] >= 5
+
+
+def test_laws_shear_strength():
+    """q = tau0 + alpha p inside the disc (a step at the edge), 1 % noise, on a finer record
+    (80 x 80 cells of 0.15 h: 8 cells across the radius): the linear law recovers tau0 and
+    alpha within 2 sigma and Amontons loses by AIC.  (On the 48 x 48 record, cells of h/4, the
+    estimate of q is smoothed across the step and alpha comes out low by 5-7 sigma: the laws
+    need the step resolved by the grid; here the bias is 0.5-1.7 sigma over seeds 2-4.)"""
+    x = (np.arange(80) - 40) * 0.15 * H
+    p, _, _ = _tractions(x, x)
+    q = np.where(p > 0, TAU0 + ALPHA * p, 0.0)
+    szz, sxz, syz = im.base_maps_from_tractions(x, x, p, q, 0 * p, H)
+    rng = np.random.default_rng(2)
+    s = 0.01 * np.abs(szz).max()
+    d = [f + s * rng.standard_normal(f.shape) for f in (-szz, sxz, syz)]
+    inv = im.invert_maps(x, x, *d, thickness=H)
+    laws = inv.laws
+    lin = laws["linear"]
+    assert abs(lin["tau0_Pa"] - TAU0) < 2 * lin["tau0_Pa_sigma"]
+    assert abs(lin["alpha"] - ALPHA) < 2 * lin["alpha_sigma"]
+    assert lin["tau0_Pa_sigma"] < 0.5 * TAU0
+    assert laws["amontons"]["aic"] > lin["aic"] + 10
+    assert laws["best"] in ("linear", "power")
