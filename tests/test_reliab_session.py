@@ -91,3 +91,42 @@ def test_cli_onset_help_states_the_default_tol(capsys):
         main(["onset", "--help"])
     out = " ".join(capsys.readouterr().out.split())
     assert f"(default {DEFAULT_TOL:g})" in out
+
+
+@pytest.mark.parametrize("scale, field, words", [
+    (1.0, 1e300, ["largest |stress| is 1e+300 Pa", "1e-100 ... 1e+100"]),  # was exit 0, +- inf
+    (1.0, 1e-310, ["largest |stress| is 1e-310 Pa"]),
+    (1e3, 1.0, ["x_m spans 11 m", "--thickness"]),  # x in mm: was an internal ValueError, exit 1
+])
+def test_invert_maps_values_and_spans_out_of_range(scale, field, words, tmp_path, capsys,
+                                                   monkeypatch):
+    n = 12
+    x = np.arange(n) * 1e-3 * scale
+    z = np.zeros((n, n))
+    np.savez(tmp_path / "m.npz", x_m=x, y_m=x, base_sigma_zz_Pa=z + field, base_sigma_xz_Pa=z,
+             base_sigma_yz_Pa=z)
+    refused(["invert", "m.npz", "--json"], tmp_path, capsys, monkeypatch, words=words)
+
+
+def test_invert_flags_a_contact_beyond_the_record(capsys, tmp_path, monkeypatch):
+    """A noise-free record ending at x = 0, inside the paper's contact [-1.3, 3.7] mm: the
+    inversion answered P 86 +- 7 N/m (truth 200) with nothing said.  Now `contact_within_record`
+    is false in the JSON and a warning names it; the whole record (|x| < 10 mm) stays unflagged."""
+    import json
+
+    from spectral_contact import solve
+
+    r = solve(tol=1e-3)
+    monkeypatch.chdir(tmp_path)
+    for name, sel, inside in (("trail.csv", (r.x_m > -0.012) & (r.x_m < 0.0), False),
+                              ("whole.csv", np.abs(r.x_m) < 0.01, True)):
+        x, zz, xz = (a[sel][::4] for a in (r.x_m, r.base_sigma_zz_Pa, r.base_sigma_xz_Pa))
+        (tmp_path / name).write_text("x_m,base_sigma_zz_Pa,base_sigma_xz_Pa\n" + "\n".join(
+            f"{a:.17g},{b:.17g},{c:.17g}" for a, b, c in zip(x, zz, xz)) + "\n")
+        capsys.readouterr()
+        assert main(["invert", name, "--json", "--prior", "contact"]) == 0
+        out, err = capsys.readouterr()
+        rec = json.loads(out)
+        assert rec["contact_within_record"] is inside
+        assert rec["record_m"] == pytest.approx([x[0], x[-1]], abs=1e-4)
+        assert ("reaches beyond the record" in err) is (not inside)

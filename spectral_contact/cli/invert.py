@@ -105,6 +105,14 @@ def _cmd_invert(args) -> int:
             **rec}),
         "--plot": staged(lambda path: inv.plot().savefig(path, dpi=120)),
     }, lambda: _invert_text(args, rec, view))
+    if not rec.get("contact_within_record", True):  # after the outputs, as onset's warning
+        import sys
+
+        ci = rec["contact_interval_m"]
+        print(f"warning: the contact interval [{ci[0] * 1e3:.3g}, {ci[1] * 1e3:.3g}] mm reaches "
+              f"beyond the record [{rec['record_m'][0] * 1e3:.3g}, {rec['record_m'][1] * 1e3:.3g}]"
+              f" mm: P, Q and the edge there are the prior's extrapolation (JSON: "
+              f"\"contact_within_record\": false)", file=sys.stderr)
     return 0
 
 
