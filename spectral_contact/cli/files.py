@@ -107,15 +107,21 @@ def check_outputs(inputs=None, metas=(), **paths) -> dict:
     return out
 
 
-def plan_outputs(inputs=None, csvs=(), plots=(), **paths) -> dict:
+def plan_outputs(inputs=None, csvs=(), plots=(), npzs=(), **paths) -> dict:
     """The output check every command makes before any work: ``check_outputs`` (no output over
     an input or another output; ``csvs``: the options whose CSV gets an implicit ``.meta.json``)
     and, for each option of ``plots`` that is given, ``check_plot_path`` (a format matplotlib
-    writes).  Returns {option: Path} of the outputs given, for ``write_outputs``."""
+    writes); each option of ``npzs`` given must name a ``.npz`` file (``invert`` sends files by
+    that suffix to the maps' reader: an NPZ named ``maps.csv`` could not be read back).
+    Returns {option: Path} of the outputs given, for ``write_outputs``."""
     outputs = check_outputs(inputs=inputs, metas=csvs, **paths)
     for option in plots:
         if paths.get(option) is not None:
             check_plot_path(paths[option], option)
+    for option in npzs:
+        path = paths.get(option)
+        if path is not None and not str(path).lower().endswith(".npz"):
+            raise InputError(f"{option} {path}: writes an NPZ archive; give a name ending in .npz")
     return outputs
 
 

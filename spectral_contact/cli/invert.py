@@ -8,6 +8,8 @@ are written whole or not at all, never over an input.
 """
 from __future__ import annotations
 
+import math
+
 from ..errors import InputError
 from ..units import A_XZ_MV_PER_BAR, A_ZZ_MV_PER_BAR
 from .files import csv_file, plan_outputs, staged, to_json, write_outputs
@@ -103,7 +105,20 @@ def _cmd_invert(args) -> int:
             **rec}),
         "--plot": staged(lambda path: inv.plot().savefig(path, dpi=120)),
     }, lambda: _invert_text(args, rec, view))
+    if not rec.get("contact_within_record", True):  # after the outputs, as onset's warning
+        import sys
+
+        ci = rec["contact_interval_m"]
+        print(f"warning: the contact interval [{ci[0] * 1e3:.3g}, {ci[1] * 1e3:.3g}] mm reaches "
+              f"beyond the record [{rec['record_m'][0] * 1e3:.3g}, {rec['record_m'][1] * 1e3:.3g}]"
+              f" mm: P, Q and the edge there are the prior's extrapolation (JSON: "
+              f"\"contact_within_record\": false)", file=sys.stderr)
     return 0
+
+
+def _sd(v, scale) -> str:
+    """An sd for the text summary: '?' when it is not determined (NaN or None), never 'nan'."""
+    return f"{v * scale:.2g}" if v is not None and math.isfinite(v) else "?"
 
 
 def _invert_text(args, rec, view) -> str:
@@ -120,10 +135,14 @@ def _invert_text(args, rec, view) -> str:
             f"  Q   = {rec['tangential_load_N_per_m']:.5g} +- "
             f"{rec['tangential_load_sigma_N_per_m']:.2g} N/m, Q/P = {rec['Q_over_P']:.4g} +- "
             f"{rec['Q_over_P_sigma']:.2g}",
-            f"  contact [{ci[0] * mm:.3f} +- {cs[0] * mm:.2g}, {ci[1] * mm:.3f} +- "
-            f"{cs[1] * mm:.2g}] mm; resolution {rec['resolution_length_m'] * mm:.3g} mm",
+            f"  contact [{ci[0] * mm:.3f} +- {_sd(cs[0], mm)}, {ci[1] * mm:.3f} +- "
+            f"{_sd(cs[1], mm)}] mm; resolution {rec['resolution_length_m'] * mm:.3g} mm",
             f"  noise sd zz {rec['noise_sd_zz_Pa']:.3g} Pa, xz {rec['noise_sd_xz_Pa']:.3g} Pa "
             f"(by evidence; log-evidence {rec['log_evidence']:.2f})"]
+        if not all(v is not None and math.isfinite(v) for v in cs):
+            lines.append("  (?: the contact edge's sd is not determined: the window's Laplace step "
+                         "was not taken or an edge is at its search bound, e.g. beyond the record;"
+                         " JSON null)")
         from ..instruments.inverse_laws import law_lines
 
         lines += law_lines(laws)

@@ -23,7 +23,8 @@ def cmd_invert_maps(args) -> int:
             raise InputError(f"{opt}: not available for maps ({args.record}); line records only")
     outputs = plan_outputs(inputs={"FILE": args.record, "--apparatus-zz": args.apparatus_zz,
                                    "--apparatus-xz": args.apparatus_xz},
-                           plots=("--plot",), **{"--out": args.out, "--plot": args.plot})
+                           plots=("--plot",), npzs=("--out",),
+                           **{"--out": args.out, "--plot": args.plot})
     x, y, (zz, xz, yz), view = read_maps(args.record)
     apparatus = _apparatus(args)
     if view == "base" and apparatus is not None:

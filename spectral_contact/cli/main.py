@@ -252,6 +252,7 @@ def _cmd_solve3d(args, scene) -> int:
     if args.method != "fft":
         raise InputError(f"--method {args.method} is for the line indenter; 3D indenters use fft")
     outputs = plan_outputs(inputs=_inputs(args), csvs=("--profiles",), plots=("--plot",),
+                           npzs=("--maps",),
                            **{"--profiles": args.profiles, "--plot": args.plot, "--maps": args.maps})
     r = solve(scene, model=args.model, method="fft", tol=args.tol, grid_points=args.grid_points,
               domain_length=args.domain_length)

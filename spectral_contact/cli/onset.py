@@ -195,7 +195,7 @@ def _cmd_onset(args) -> int:
         scene = Scene3D(indenter=indenter, **given)
     if scene.mu == 0:
         raise InputError("--mu must be != 0 for onset (the tangential load goes up to mu P)")
-    outputs = plan_outputs(csvs=("--profiles",), plots=("--plot",),
+    outputs = plan_outputs(csvs=("--profiles",), plots=("--plot",), npzs=("--maps",),
                            **{"--profiles": args.profiles, "--plot": args.plot,
                               "--maps": args.maps})
 

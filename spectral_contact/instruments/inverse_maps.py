@@ -244,6 +244,24 @@ def _contact_posterior(M, Y, shape, steps, smooth, say, logscale):
                                "hyperparameters' own uncertainty to first order (Laplace)")
 
 
+def _check_spans(x, y, h):
+    """Each axis's span and step against the film thickness h [m], as the line inverse's
+    (``inverse.SPAN_RANGE_H``, a step of at most h): x in millimetres under ``x_m`` is refused
+    in one line (it ended in an optimiser's ValueError)."""
+    from ..errors import named
+    from .inverse import SPAN_RANGE_H
+
+    lo, hi = SPAN_RANGE_H
+    for a, nm in ((x, "x_m"), (y, "y_m")):
+        span, step = float(a[-1] - a[0]), float(a[1] - a[0])
+        if not lo * h <= span <= hi * h or step > h:
+            raise InputError(f"{nm} spans {span:.3g} m in steps of {step:.3g} m, i.e. "
+                             f"{span / h:.3g} film thicknesses ({named('thickness')} {h:g} m): "
+                             f"the inversion takes maps spanning {lo:g} ... {hi:g} thicknesses "
+                             f"with a step of at most one (is {nm} in metres, the thickness "
+                             f"right?)")
+
+
 def invert_maps(x_m, y_m, zz_Pa, xz_Pa, yz_Pa, *, thickness: float = 0.002,
                 poisson: float = 0.5, view: str = "base", apparatus=None,
                 smoothness=KERNEL_NUS, prior: str = "auto", progress=None) -> MapInversion:
@@ -262,6 +280,7 @@ def invert_maps(x_m, y_m, zz_Pa, xz_Pa, yz_Pa, *, thickness: float = 0.002,
     h = check_positive("thickness", thickness, "m")
     nu = check_poisson(poisson)
     x, y, d = _check_maps(x_m, y_m, (zz_Pa, xz_Pa, yz_Pa), ("zz", "xz", "yz"))
+    _check_spans(x, y, h)
     if view not in ("base", "sensor"):
         raise InputError(f"view must be 'base' or 'sensor'; got {view!r}")
     if prior == "envelope":  # the line inverse's name for its smooth alternative

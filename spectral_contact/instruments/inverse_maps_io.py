@@ -45,6 +45,12 @@ def _check_maps(x_m, y_m, fields, names, src=""):
         out.append(f)
     if not any(np.any(f) for f in out):
         raise InputError(f"{src}the maps are zero everywhere: nothing to invert")
+    from .inverse import VALUE_RANGE_PA  # the line inverse's range (the evidence squares them)
+
+    big = max(float(np.max(np.abs(f))) for f in out)
+    if not VALUE_RANGE_PA[0] <= big <= VALUE_RANGE_PA[1]:
+        raise InputError(f"{src}the maps' largest |stress| is {big:.3g} Pa: the inversion takes "
+                         f"{VALUE_RANGE_PA[0]:g} ... {VALUE_RANGE_PA[1]:g} Pa")
     return x, y, out
 
 

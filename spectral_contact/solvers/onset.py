@@ -227,7 +227,8 @@ def onset(scene: Scene | None = None, *, steps: int = 20, tol: float | None = No
           loading: str = "frictional", loading_steps: int = LOADING_STEPS, grid_points: int | None = None,
           domain_length: float | None = None, amplitude: float = 1.0, cycle: bool = False,
           progress=None, **params) -> OnsetResult:
-    """The onset of sliding of a line indenter on the film: the normal load, then the
+    """The onset of sliding of a line indenter (or, with ``indenter="sphere"`` or
+    ``"paraboloid"`` and ``force`` [N], a 3D one) on the film: the normal load, then the
     tangential load Q raised from 0 to mu P in ``steps`` equal steps (quasi-static,
     incremental Coulomb friction; see ``solvers.onset``).
 
@@ -237,17 +238,19 @@ def onset(scene: Scene | None = None, *, steps: int = 20, tol: float | None = No
             the direction of Q (mu > 0: toward +x).
     steps : N, the number of tangential steps (Q/(mu P) = 1/N, ..., 1), 1 ... 10000.
     tol : relative accuracy target of every step's a, contact centre, indentation, peak
-          pressure and tangential displacement (default ``DEFAULT_TOL`` = 1e-3).
-    loading : "frictional" (default: the normal load applied in ``loading_steps`` steps with
-          Coulomb friction acting) or "frictionless" (lubricated approach: q = 0 at Q = 0).
+          pressure and tangential displacement (default ``DEFAULT_TOL`` = 1e-2 for lines,
+          ``onset3d.DEFAULT_TOL_3D`` = 1e-2 for spheres and paraboloids).
+    loading : "frictional" (default: the normal load applied in ``loading_steps`` steps,
+          default ``LOADING_STEPS`` = 20, with Coulomb friction acting) or "frictionless"
+          (lubricated approach: q = 0 at Q = 0).
     grid_points, domain_length [m] : fix the grid instead of choosing it from tol.
     amplitude : the largest Q/(mu P), in (0, 1] (default 1: up to gross sliding).
     cycle : after the loading to amplitude, unload to -amplitude and reload to +amplitude
           (2 ``steps`` each): Mindlin's hysteresis loop.
 
-    Returns an ``OnsetResult``: per step the fields and measurements, ``summary()`` (JSON
-    record, SI), ``plot()`` (a Figure).  InputError for a bad option (named), ConvergenceError
-    if the refinement cannot meet tol.
+    Returns an ``OnsetResult`` (3D: ``onset3d.OnsetResult3D``): per step the fields and
+    measurements, ``summary()`` (JSON record, SI), ``plot()`` (a Figure).  InputError for a
+    bad option (named), ConvergenceError if the refinement cannot meet tol.
     """
     if scene is None:
         indenter = params.pop("indenter", "line")
