@@ -94,7 +94,7 @@ from .inverse_forward import (  # noqa: F401  (re-exported)
     base_from_tractions,
 )
 from .inverse_laws import fit_laws
-from .inverse_prior import TIE_MU_PART, fit_contact, propagate
+from .inverse_prior import fit_contact, propagate, regularisation_record
 from .inverse_result import LineInversion
 
 __all__ = ["invert", "read_record", "invert_line", "LineInversion", "LineForward", "fit_laws",
@@ -115,38 +115,6 @@ INVERT_JSON_KEYS = ("load_N_per_m", "load_sigma_N_per_m", "tangential_load_N_per
 
 
 # --- the inversion ----------------------------------------------------------------------------
-
-
-def _regularisation(prior, theta, free, scale, h, hyper):
-    """The prior and its hyperparameters in SI (the JSON's ``regularisation``)."""
-    e = np.exp
-    if prior == "contact":
-        c, w0 = theta[0] * h, e(theta[1]) * h
-        return {"prior": "contact: p = sqrt-edged window x Matern-5/2 process; q = mu0 p + "
-                         "sqrt-edged x Matern-5/2 + window x Matern-5/2; white nugget",
-                "window_m": [float(c - w0), float(c + w0)] if free[0] else None,
-                "amplitude_p_Pa": float(e(theta[2]) * scale), "length_p_m": float(e(theta[3]) * h),
-                "mu0": float(theta[4]),
-                "amplitude_mu_part_Pa": float(e(theta[2] if TIE_MU_PART else theta[5]) * scale),
-                "length_mu_part_m": float(e(theta[6]) * h),
-                "amplitude_step_part_Pa": float(e(theta[2]) * scale),
-                "nugget_Pa": float(e(theta[9]) * scale),
-                "chosen_by": "maximum evidence (marginal likelihood)",
-                "hyperparameter_uncertainty": ("propagated (Laplace over the log-hyperparameters)"
-                                               if hyper else "not propagated")}
-    return {"prior": f"envelope: p, q Matern-{2 * KERNEL_NU:g}/2 Gaussian processes inside an "
-                     f"envelope + exponential-correlation process at its edges, zero mean",
-            "rough_amplitude_p_Pa": float(e(theta[10]) * scale),
-            "rough_amplitude_q_Pa": float(e(theta[11]) * scale),
-            "rough_length_m": float(e(theta[12]) * h),
-            "length_p_m": float(e(theta[0]) * h), "length_q_m": float(e(theta[1]) * h),
-            "amplitude_p_Pa": float(e(theta[2]) * scale), "amplitude_q_Pa": float(e(theta[3]) * scale),
-            "amplitude_outside_Pa": float(e(theta[4]) * scale) if free[4] else None,
-            "window_m": ([float((theta[7] - e(theta[8])) * h), float((theta[7] + e(theta[8])) * h)]
-                         if free[7] else None),
-            "window_edge_m": float(e(theta[9]) * h) if free[9] else None,
-            "chosen_by": "maximum evidence (marginal likelihood)",
-            "hyperparameter_uncertainty": "not propagated"}
 
 
 SCREEN_STEP_H = 0.5
@@ -507,7 +475,7 @@ def _record(d, f, totals, interval, interval_sd, res_len, laws, prior, view, pos
            "Q_over_P": ratio, "Q_over_P_sigma": math.sqrt(max(vR, 0.0)),
            "contact_interval_m": interval, "contact_interval_sigma_m": interval_sd,
            "resolution_length_m": res_len,
-           "regularisation": _regularisation(prior, f.theta, f.free, scale, h, hyper),
+           "regularisation": regularisation_record(prior, f.theta, f.free, scale, h, hyper),
            "log_evidence": float(f.logev - 2 * d.x.size * math.log(scale)),
            "noise_sd_zz_Pa": float(f.nz * scale * math.sqrt(d.nbin)),
            "noise_sd_xz_Pa": float(f.nx * scale * math.sqrt(d.nbin)),

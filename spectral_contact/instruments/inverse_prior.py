@@ -53,6 +53,7 @@ import math
 import numpy as np
 
 from .inverse_evidence import (
+    KERNEL_NU,
     _logistic,
     _maximise,
     _noise_gradient,
@@ -517,3 +518,36 @@ PROFILE_POINTS = 6
 """At most this many profile steps on each side of the maximum."""
 MODE_NATS = 5.0
 """Profile points this far below the best (weight e^-5 < 1 %) are dropped."""
+
+
+def regularisation_record(prior, theta, free, scale, h, hyper):
+    """The prior ("contact" or "envelope") and its hyperparameters theta in SI (the JSON's
+    ``regularisation`` of ``inverse.invert_line``): scale [Pa] and h [m] the core's units."""
+    e = np.exp
+    if prior == "contact":
+        c, w0 = theta[0] * h, e(theta[1]) * h
+        return {"prior": "contact: p = sqrt-edged window x Matern-5/2 process; q = mu0 p + "
+                         "sqrt-edged x Matern-5/2 + window x Matern-5/2; white nugget",
+                "window_m": [float(c - w0), float(c + w0)] if free[0] else None,
+                "amplitude_p_Pa": float(e(theta[2]) * scale), "length_p_m": float(e(theta[3]) * h),
+                "mu0": float(theta[4]),
+                "amplitude_mu_part_Pa": float(e(theta[2] if TIE_MU_PART else theta[5]) * scale),
+                "length_mu_part_m": float(e(theta[6]) * h),
+                "amplitude_step_part_Pa": float(e(theta[2]) * scale),
+                "nugget_Pa": float(e(theta[9]) * scale),
+                "chosen_by": "maximum evidence (marginal likelihood)",
+                "hyperparameter_uncertainty": ("propagated (Laplace over the log-hyperparameters)"
+                                               if hyper else "not propagated")}
+    return {"prior": f"envelope: p, q Matern-{2 * KERNEL_NU:g}/2 Gaussian processes inside an "
+                     f"envelope + exponential-correlation process at its edges, zero mean",
+            "rough_amplitude_p_Pa": float(e(theta[10]) * scale),
+            "rough_amplitude_q_Pa": float(e(theta[11]) * scale),
+            "rough_length_m": float(e(theta[12]) * h),
+            "length_p_m": float(e(theta[0]) * h), "length_q_m": float(e(theta[1]) * h),
+            "amplitude_p_Pa": float(e(theta[2]) * scale), "amplitude_q_Pa": float(e(theta[3]) * scale),
+            "amplitude_outside_Pa": float(e(theta[4]) * scale) if free[4] else None,
+            "window_m": ([float((theta[7] - e(theta[8])) * h), float((theta[7] + e(theta[8])) * h)]
+                         if free[7] else None),
+            "window_edge_m": float(e(theta[9]) * h) if free[9] else None,
+            "chosen_by": "maximum evidence (marginal likelihood)",
+            "hyperparameter_uncertainty": "not propagated"}
