@@ -71,6 +71,7 @@ Units: lengths in h in the core, stresses in Pa scaled by the data's peak; SI at
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -308,38 +309,76 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
     "envelope".
     """
     if prior == "auto":
-        kw = dict(thickness=thickness, poisson=poisson, view=view, apparatus=apparatus,
-                  positive=positive, support=support, draws=draws, seed=seed, hyper=hyper)
-        try:
-            con = invert_line(x_m, zz_Pa, xz_Pa, prior="contact", **kw)
-            failed = None if math.isfinite(con.record["log_evidence"]) else "log-evidence not finite"
-        except InputError:
-            raise
-        except (ValueError, IndexError, ArithmeticError, np.linalg.LinAlgError) as exc:
-            # what fails here is the contact prior's window search, not the record's checks
-            con, failed = None, f"{type(exc).__name__}: {exc}"
-        screen = None
-        if con is not None and failed is None:
-            screen = _envelope_screen(x_m, zz_Pa, xz_Pa, thickness, poisson, view, apparatus,
-                                      support)
-        if screen is not None and screen < con.record["log_evidence"] - SCREEN_NATS:
-            best, le_env = con, screen
-        else:
-            env = invert_line(x_m, zz_Pa, xz_Pa, prior="envelope", **kw)
-            le_env, screen = env.record["log_evidence"], None
-            best = env if con is None or failed or le_env > con.record["log_evidence"] else con
-        best.record["regularisation"]["prior_choice"] = {
-            "rule": "the prior of higher log-evidence on the same data (equal prior odds)",
-            "log_evidence_contact": None if con is None else con.record["log_evidence"],
-            "log_evidence_envelope": le_env,
-            "envelope_screened": (None if screen is None else
-                                  f"the envelope's evidence on nodes every {SCREEN_STEP_H:g} h "
-                                  f"(within ~2 nats of its h/8 nodes' on the calibration "
-                                  f"records) is more than {SCREEN_NATS:g} nats below the "
-                                  f"contact's: not refitted on h/8 nodes"),
-            "contact_failed": failed,
-            "chosen": "contact" if best is con else "envelope"}
-        return best
+        return _invert_auto(x_m, zz_Pa, xz_Pa, dict(
+            thickness=thickness, poisson=poisson, view=view, apparatus=apparatus,
+            positive=positive, support=support, draws=draws, seed=seed, hyper=hyper))
+    d = _prepare(x_m, zz_Pa, xz_Pa, thickness, poisson, view, apparatus, support, prior)
+    f = _fit(prior, d, hyper)
+    m = f.fwd.nodes.size
+    mean, cov = f.mean, f.cov
+    if positive:
+        mean, cov, _ = _positive(mean, cov, m)
+    # SI: stresses * scale; lengths * h
+    h, scale = d.h, d.scale
+    p, q = mean[:m] * scale, mean[m:] * scale
+    cov_si = cov * scale**2
+    sd = np.sqrt(np.maximum(np.diag(cov_si), 0.0))
+    sp_, sq_ = sd[:m], sd[m:]
+    totals = _totals(f.fwd.weights, p, q, cov_si, h)
+    resolved, mu, mu_sd = _local_mu(p, q, sp_, sq_, cov_si)
+    if prior == "contact":  # the contact interval is the prior's window, with its Laplace sd
+        interval, interval_sd = _window_mixture(f.windows, f.weights)
+    else:  # contact interval from posterior draws
+        interval, interval_sd = _contact_interval(f.fwd.nodes * h, p, cov_si[:m, :m], sp_, draws,
+                                                  seed)
+    # resolution length: equivalent width of the resolution-matrix row at the peak of p
+    res_len = _resolution_length(f.fwd, d.symbols, d.film, min(f.nz, f.nx) * scale, d.x.size,
+                                 float(np.max(p)), h)
+    laws = _laws(f.fwd.nodes * h, p, q, cov_si, resolved, interval, res_len)
+    rec = _record(d, f, totals, interval, interval_sd, res_len, laws, prior, view, positive,
+                  support, hyper)
+    fz, fx = f.fwd.apply(mean[:m], mean[m:])
+    data = {"x_m": d.x, "zz": d.dz, "xz": d.dxz, "zz_fit": fz * scale, "xz_fit": fx * scale}
+    return LineInversion(f.fwd.nodes * h, p, sp_, q, sq_, mu, mu_sd, rec, data, cov_si)
+
+
+def _invert_auto(x_m, zz_Pa, xz_Pa, kw):
+    """``prior="auto"``: the contact prior, the envelope prior screened on coarse nodes (or
+    fitted on its own), the one of higher evidence kept, with the choice's record."""
+    try:
+        con = invert_line(x_m, zz_Pa, xz_Pa, prior="contact", **kw)
+        failed = None if math.isfinite(con.record["log_evidence"]) else "log-evidence not finite"
+    except InputError:
+        raise
+    except (ValueError, IndexError, ArithmeticError, np.linalg.LinAlgError) as exc:
+        # what fails here is the contact prior's window search, not the record's checks
+        con, failed = None, f"{type(exc).__name__}: {exc}"
+    screen = None
+    if con is not None and failed is None:
+        screen = _envelope_screen(x_m, zz_Pa, xz_Pa, kw["thickness"], kw["poisson"], kw["view"],
+                                  kw["apparatus"], kw["support"])
+    if screen is not None and screen < con.record["log_evidence"] - SCREEN_NATS:
+        best, le_env = con, screen
+    else:
+        env = invert_line(x_m, zz_Pa, xz_Pa, prior="envelope", **kw)
+        le_env, screen = env.record["log_evidence"], None
+        best = env if con is None or failed or le_env > con.record["log_evidence"] else con
+    best.record["regularisation"]["prior_choice"] = {
+        "rule": "the prior of higher log-evidence on the same data (equal prior odds)",
+        "log_evidence_contact": None if con is None else con.record["log_evidence"],
+        "log_evidence_envelope": le_env,
+        "envelope_screened": (None if screen is None else
+                              f"the envelope's evidence on nodes every {SCREEN_STEP_H:g} h "
+                              f"(within ~2 nats of its h/8 nodes' on the calibration "
+                              f"records) is more than {SCREEN_NATS:g} nats below the "
+                              f"contact's: not refitted on h/8 nodes"),
+        "contact_failed": failed,
+        "chosen": "contact" if best is con else "envelope"}
+    return best
+
+
+def _prepare(x_m, zz_Pa, xz_Pa, thickness, poisson, view, apparatus, support, prior):
+    """The checked, binned record (SI) with h, nu, points, nbin, scale, film, symbols, sup_h."""
     from ..physics.scene import check_poisson, check_positive
 
     h = check_positive("thickness", thickness, "m")
@@ -357,80 +396,93 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
     elif apparatus is not None:
         raise InputError("an apparatus applies to sensor records (view='sensor'), not to base "
                          "stresses")
-    sup_h = None
-    if support is not None:
-        a, b = (float(s) for s in support)
-        if not (math.isfinite(a) and math.isfinite(b) and b > a):
-            raise InputError(f"support must be an interval (a, b) with b > a [m]; got {support}")
-        lo, hi = x[0] - MARGIN_H * h, x[-1] + MARGIN_H * h  # where the tractions are modelled
-        if a < lo or b > hi:
-            raise InputError(f"{named('support')} {a:g} {b:g}: the known contact must lie within "
-                             f"the record extended by {MARGIN_H:g} thicknesses, [{lo:.6g}, "
-                             f"{hi:.6g}] m")
-        sup_h = (a / h, b / h)
+    sup_h = _check_support(support, x, h)
     points = x.size
     x, dz, dxz, nbin = _bin(x, dz, dxz, BIN_STEP_H * h)
     scale = max(float(np.max(np.abs(dz))), float(np.max(np.abs(dxz))))
-    xh = x / h
-    film = Film(1.0, nu)
-    symbols = _symbols(apparatus, h)
-    zs, xs = dz / scale, dxz / scale
+    return SimpleNamespace(h=h, nu=nu, x=x, dz=dz, dxz=dxz, points=points, nbin=nbin, scale=scale,
+                           film=Film(1.0, nu), symbols=_symbols(apparatus, h), sup_h=sup_h)
+
+
+def _check_support(support, x, h):
+    """A known contact (a, b) [m] in h, or None."""
+    if support is None:
+        return None
+    a, b = (float(s) for s in support)
+    if not (math.isfinite(a) and math.isfinite(b) and b > a):
+        raise InputError(f"support must be an interval (a, b) with b > a [m]; got {support}")
+    lo, hi = x[0] - MARGIN_H * h, x[-1] + MARGIN_H * h  # where the tractions are modelled
+    if a < lo or b > hi:
+        raise InputError(f"{named('support')} {a:g} {b:g}: the known contact must lie within "
+                         f"the record extended by {MARGIN_H:g} thicknesses, [{lo:.6g}, "
+                         f"{hi:.6g}] m")
+    return (a / h, b / h)
+
+
+def _fit(prior, d, hyper):
+    """The prior's nodes, hyperparameters and posterior (scaled units): fwd, theta, logev, free,
+    mean, cov, nz, nx; modes, windows, weights (contact prior; else None)."""
+    xh, zs, xs = d.x / d.h, d.dz / d.scale, d.dxz / d.scale
     if prior == "contact":
-        fwd, ev, modes, free = fit_contact(xh, film, symbols, zs, xs, sup_h)
-        m = fwd.nodes.size
+        fwd, ev, modes, free = fit_contact(xh, d.film, d.symbols, zs, xs, d.sup_h)
         theta, logev = modes[0]
-        mean, cov, windows, weights = _mix_modes(ev, modes, free, hyper, h, sup_h)
+        mean, cov, windows, weights = _mix_modes(ev, modes, free, hyper, d.h, d.sup_h)
         nz, nx = np.exp(theta[10:12])
     else:
-        fwd = LineForward.build(xh, film, symbols, support=sup_h)
-        m = fwd.nodes.size
-        ev = _Evidence(fwd, zs, xs, envelope=sup_h is None)
+        fwd = LineForward.build(xh, d.film, d.symbols, support=d.sup_h)
+        ev = _Evidence(fwd, zs, xs, envelope=d.sup_h is None)
         theta, logev, free = _optimise(ev, zs, xs, fwd.nodes[1] - fwd.nodes[0])
-        _, (mean, cov, H) = ev.evaluate(theta, full=True)
+        _, (mean, cov, _) = ev.evaluate(theta, full=True)
         nz, nx = np.exp(theta[5:7])
-    active = np.zeros(2 * m, bool)
-    if positive:
-        mean, cov, active = _positive(mean, cov, m)
-    # SI: stresses * scale; lengths * h
-    w = fwd.weights
-    p, q = mean[:m] * scale, mean[m:] * scale
-    cov_si = cov * scale**2
-    sd = np.sqrt(np.maximum(np.diag(cov_si), 0.0))
-    sp_, sq_ = sd[:m], sd[m:]
+        modes = windows = weights = None
+    return SimpleNamespace(fwd=fwd, theta=theta, logev=logev, free=free, mean=mean, cov=cov,
+                           nz=nz, nx=nx, modes=modes, windows=windows, weights=weights)
+
+
+def _totals(w, p, q, cov_si, h):
+    """(P, Q, var P, var Q, Q/P, var Q/P): the node weights w [h] integrate p, q [Pa]; the
+    ratio's variance by the delta rule with the P-Q covariance."""
+    m = w.size
     wv = np.concatenate([w, np.zeros(m)]) * h
     wq = np.concatenate([np.zeros(m), w]) * h
     P, Q = float(wv @ np.concatenate([p, q])), float(wq @ np.concatenate([p, q]))
     vP, vQ, cPQ = float(wv @ cov_si @ wv), float(wq @ cov_si @ wq), float(wv @ cov_si @ wq)
     ratio = Q / P if P != 0 else float("nan")
     vR = (vQ - 2 * ratio * cPQ + ratio**2 * vP) / P**2 if P != 0 else float("nan")
-    # local mu
+    return P, Q, vP, vQ, ratio, vR
+
+
+def _local_mu(p, q, sp_, sq_, cov_si):
+    """(resolved, mu_local, its sd): q/p and its delta-rule sd where p > RESOLVED_Z sd(p)."""
+    m = p.size
     resolved = p > RESOLVED_Z * sp_
     cpq_d = np.diag(cov_si[:m, m:])
     with np.errstate(divide="ignore", invalid="ignore"):
         mu = np.where(resolved, q / p, np.nan)
         mu_sd = np.where(resolved, np.sqrt(np.maximum(sq_**2 - 2 * mu * cpq_d + mu**2 * sp_**2,
                                                       0.0)) / np.abs(p), np.nan)
-    if prior == "contact":
-        # the contact interval is the prior's window, with its Laplace sd
-        e = np.array([w[0] for w in windows])
-        v = np.array([w[1] for w in windows]) ** 2
-        for i in (0, 1):  # points not propagated (PROPAGATE_MIN_WEIGHT): the others' mean
-            ok = np.isfinite(v[:, i])
-            if ok.any() and not ok.all():
-                v[~ok, i] = weights[ok] @ v[ok, i] / weights[ok].sum()
-        ebar = weights @ e
-        interval = [float(ebar[0]), float(ebar[1])]
-        interval_sd = [float(math.sqrt(max(weights @ (v[:, i] + (e[:, i] - ebar[i]) ** 2), 0.0)))
-                       for i in (0, 1)]
-    else:  # contact interval from posterior draws
-        interval, interval_sd = _contact_interval(fwd.nodes * h, p, cov_si[:m, :m], sp_, draws,
-                                                  seed)
-    # resolution length: equivalent width of the resolution-matrix row at the peak of p
-    res_len = _resolution_length(fwd, symbols, film, min(nz, nx) * scale, x.size,
-                                 float(np.max(p)), h)
-    # laws on resolved pairs away from the contact edges (there the smoothing mixes in the
-    # zeros outside and the steps of a shear strength: LAW_EDGE_GUARD resolution lengths)
-    xn = fwd.nodes * h
+    return resolved, mu, mu_sd
+
+
+def _window_mixture(windows, weights):
+    """The contact prior's interval [m] and its edges' sd mixed over the evidence's maxima."""
+    e = np.array([w[0] for w in windows])
+    v = np.array([w[1] for w in windows]) ** 2
+    for i in (0, 1):  # points not propagated (PROPAGATE_MIN_WEIGHT): the others' mean
+        ok = np.isfinite(v[:, i])
+        if ok.any() and not ok.all():
+            v[~ok, i] = weights[ok] @ v[ok, i] / weights[ok].sum()
+    ebar = weights @ e
+    interval = [float(ebar[0]), float(ebar[1])]
+    interval_sd = [float(math.sqrt(max(weights @ (v[:, i] + (e[:, i] - ebar[i]) ** 2), 0.0)))
+                   for i in (0, 1)]
+    return interval, interval_sd
+
+
+def _laws(xn, p, q, cov_si, resolved, interval, res_len):
+    """The law fits on resolved pairs away from the contact edges (there the smoothing mixes in
+    the zeros outside and the steps of a shear strength: LAW_EDGE_GUARD resolution lengths)."""
+    m = p.size
     inside = np.ones(m, bool)
     if np.all(np.isfinite(interval)):
         g = LAW_EDGE_GUARD * res_len if math.isfinite(res_len) else 0.0
@@ -442,35 +494,41 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
         laws["note"] += (f" (the fits use nodes where p > {RESOLVED_Z:g} sd(p), at least "
                          f"{LAW_EDGE_GUARD:g} resolution lengths inside the contact interval; "
                          f"{int(resolved.sum())} of {m} nodes have p > {RESOLVED_Z:g} sd)")
-    fz, fx = fwd.apply(mean[:m], mean[m:])
+    return laws
+
+
+def _record(d, f, totals, interval, interval_sd, res_len, laws, prior, view, positive, support,
+            hyper):
+    """The JSON record (``INVERT_JSON_KEYS`` and more), SI."""
+    P, Q, vP, vQ, ratio, vR = totals
+    h, scale = d.h, d.scale
     rec = {"load_N_per_m": P, "load_sigma_N_per_m": math.sqrt(max(vP, 0.0)),
            "tangential_load_N_per_m": Q, "tangential_load_sigma_N_per_m": math.sqrt(max(vQ, 0.0)),
            "Q_over_P": ratio, "Q_over_P_sigma": math.sqrt(max(vR, 0.0)),
            "contact_interval_m": interval, "contact_interval_sigma_m": interval_sd,
            "resolution_length_m": res_len,
-           "regularisation": _regularisation(prior, theta, free, scale, h, hyper),
-           "log_evidence": float(logev - 2 * x.size * math.log(scale)),
-           "noise_sd_zz_Pa": float(nz * scale * math.sqrt(nbin)),
-           "noise_sd_xz_Pa": float(nx * scale * math.sqrt(nbin)),
-           "view": view, "points": int(points), "binned_by": int(nbin), "nodes": int(m),
-           "positive": bool(positive),
+           "regularisation": _regularisation(prior, f.theta, f.free, scale, h, hyper),
+           "log_evidence": float(f.logev - 2 * d.x.size * math.log(scale)),
+           "noise_sd_zz_Pa": float(f.nz * scale * math.sqrt(d.nbin)),
+           "noise_sd_xz_Pa": float(f.nx * scale * math.sqrt(d.nbin)),
+           "view": view, "points": int(d.points), "binned_by": int(d.nbin),
+           "nodes": int(f.fwd.nodes.size), "positive": bool(positive),
            "support_m": None if support is None else [float(s) for s in support],
            "resolved_rule": f"mu_local where p > {RESOLVED_Z:g} sd(p)",
-           "thickness_m": h, "poisson": nu, "laws": laws}
+           "thickness_m": h, "poisson": d.nu, "laws": laws}
     # a contact edge beyond the record's ends: P, Q and the window there are the prior's
     # extrapolation (a noise-free record ending at the contact's centre gave P 86 +- 7 N/m for
     # 200): flagged, not refused (with 1 % noise the same record's band held the truth)
-    rec["record_m"] = [float(x[0]), float(x[-1])]
+    rec["record_m"] = [float(d.x[0]), float(d.x[-1])]
     rec["contact_within_record"] = bool(not np.all(np.isfinite(interval))
-                                        or (interval[0] >= x[0] and interval[1] <= x[-1]))
+                                        or (interval[0] >= d.x[0] and interval[1] <= d.x[-1]))
     if prior == "contact":
         rec["regularisation"]["evidence_maxima"] = [
-            {"log_evidence_below_best": float(logev - le), "weight": float(wt),
+            {"log_evidence_below_best": float(f.logev - le), "weight": float(wt),
              "length_p_m": float(math.exp(th[3]) * h), "mu0": float(th[4]),
              "window_m": [float(w_[0][0]), float(w_[0][1])]}
-            for (th, le), wt, w_ in zip(modes, weights, windows)]
-    data = {"x_m": x, "zz": dz, "xz": dxz, "zz_fit": fz * scale, "xz_fit": fx * scale}
-    return LineInversion(fwd.nodes * h, p, sp_, q, sq_, mu, mu_sd, rec, data, cov_si)
+            for (th, le), wt, w_ in zip(f.modes, f.weights, f.windows)]
+    return rec
 
 
 # --- entry: files, results, arrays ------------------------------------------------------------

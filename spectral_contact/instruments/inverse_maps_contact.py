@@ -43,6 +43,7 @@ import math
 
 import numpy as np
 
+from .inverse_maps_forward import inv_logdet3
 from .inverse_maps_forward import mode_weights as _weights
 
 __all__ = ["ContactMapPrior", "fit_contact", "propagate", "PRIOR_NAMES"]
@@ -157,8 +158,7 @@ class ContactMapPrior:
         M = self.M
         S0 = s_out**2 * np.einsum("...ij,...kj->...ik", M, M.conj())
         S0[..., [0, 1, 2], [0, 1, 2]] += self.noise2
-        Si = np.linalg.inv(S0)
-        _, logdet = np.linalg.slogdet(S0)
+        Si, logdet = inv_logdet3(S0)
         Kn = np.einsum("...ki,...kl,...lj->...ij", M.conj(), Si, M)
         Kn = 0.5 * (Kn + np.swapaxes(Kn.conj(), -1, -2))
         a = np.einsum("...ij,...j->...i", Si, self.Y)

@@ -8,7 +8,7 @@ import numpy as np
 from ..numerics.grid import Grid
 from ..physics.film import Film
 
-__all__ = ["symbol", "base_maps_from_tractions", "mode_weights"]
+__all__ = ["symbol", "base_maps_from_tractions", "mode_weights", "inv_logdet3"]
 
 
 def _symbol(grid: Grid, film: Film, apparatus=None, h_m: float = 1.0):
@@ -64,3 +64,29 @@ def _weights(shape):
 
 symbol = _symbol
 mode_weights = _weights
+
+
+def inv_logdet3(S):
+    """Inverse and log|det| of Hermitian positive-definite 3x3 matrices (..., 3, 3), by
+    cofactors (several times faster than ``numpy.linalg.inv`` and ``slogdet`` on the per-mode
+    batches of the maps; relative error ~ condition number x 1e-16).  Raises LinAlgError where
+    a determinant is not positive."""
+    a = S
+    c00 = a[..., 1, 1] * a[..., 2, 2] - a[..., 1, 2] * a[..., 2, 1]
+    c01 = a[..., 1, 2] * a[..., 2, 0] - a[..., 1, 0] * a[..., 2, 2]
+    c02 = a[..., 1, 0] * a[..., 2, 1] - a[..., 1, 1] * a[..., 2, 0]
+    det = (a[..., 0, 0] * c00 + a[..., 0, 1] * c01 + a[..., 0, 2] * c02).real
+    if not np.all(det > 0):
+        raise np.linalg.LinAlgError("a per-mode covariance is not positive definite")
+    inv = np.empty_like(S)
+    inv[..., 0, 0] = c00
+    inv[..., 1, 0] = c01
+    inv[..., 2, 0] = c02
+    inv[..., 0, 1] = a[..., 0, 2] * a[..., 2, 1] - a[..., 0, 1] * a[..., 2, 2]
+    inv[..., 1, 1] = a[..., 0, 0] * a[..., 2, 2] - a[..., 0, 2] * a[..., 2, 0]
+    inv[..., 2, 1] = a[..., 0, 1] * a[..., 2, 0] - a[..., 0, 0] * a[..., 2, 1]
+    inv[..., 0, 2] = a[..., 0, 1] * a[..., 1, 2] - a[..., 0, 2] * a[..., 1, 1]
+    inv[..., 1, 2] = a[..., 0, 2] * a[..., 1, 0] - a[..., 0, 0] * a[..., 1, 2]
+    inv[..., 2, 2] = a[..., 0, 0] * a[..., 1, 1] - a[..., 0, 1] * a[..., 1, 0]
+    inv /= det[..., None, None]
+    return inv, np.log(det)

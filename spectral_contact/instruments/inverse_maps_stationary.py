@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from .inverse_maps_forward import inv_logdet3
 from .inverse_maps_forward import mode_weights as _weights
 
 __all__ = ["KERNEL_NU", "KERNEL_NUS", "StationaryModel", "optimise_stationary", "noise_guess"]
@@ -48,8 +49,7 @@ class _Model:
         M = self.M
         S = np.einsum("...ij,...j,...kj->...ik", M, lam, M.conj())
         S[..., [0, 1, 2], [0, 1, 2]] += noise
-        Si = np.linalg.inv(S)
-        _, logdet = np.linalg.slogdet(S)
+        Si, logdet = inv_logdet3(S)
         a = np.einsum("...ij,...j->...i", Si, self.Y)
         quad = np.einsum("...i,...i->...", self.Y.conj(), a).real / self.N
         w = self.w

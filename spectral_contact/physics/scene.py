@@ -130,6 +130,8 @@ class Scene:
     speed: float = 0.0
     prony: tuple = ()
 
+    dimension = "line"  # not a field: what the solvers dispatch on (Scene3D: "surface")
+
     def __post_init__(self):
         _check_viscoelastic(self)
         _take_film(self)
@@ -429,6 +431,7 @@ class Scene3D:
     friction = Scene.friction
     interface = Scene.interface
     interface_law = "linear"  # not a field: the exponential law is for the line indenter only
+    dimension = "surface"  # not a field: what the solvers dispatch on
     core_film = Scene.core_film
     custom = Scene.custom
 

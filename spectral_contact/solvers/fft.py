@@ -35,14 +35,15 @@ import warnings
 
 import numpy as np
 
-from ..errors import ConvergenceError, InputError
+from ..errors import ConvergenceError, InputError, named
 from ..numerics.contact import refine_nested
 from ..numerics.edges import fit_edges, peak
 from ..numerics.fft import get_rfft
 from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.interface import solve_exponential_contact
-from ..physics.scene import Scene
+from ..physics.scene import Scene, check_positive
 from ..result import ContactResult
+from .base import check_grid_points
 from .fft_driver import VISCO_EDGE_CELLS, VISCO_EDGE_SHARE, Level, Problem, refine, run
 from .visco_slow import slow_sliding
 
@@ -260,6 +261,31 @@ def _level_sizes(L, a, tol, grid_points, domain_length, edge_scales=()):
     return sizes
 
 
+_BYTES_PER_POINT = 400  # peak Python-side memory of a fixed-N solve (tracemalloc, N = 2^14..2^18)
+
+
+def _check_fixed(grid_points, domain_length):
+    """A user-fixed N (even, MIN_POINTS ... MAX_POINTS) and period [h] (> 0) of a line, each
+    one number (None passes through); InputError naming the option otherwise (before
+    allocating anything: a too-large N says the memory it would need)."""
+    if np.ndim(grid_points) or np.ndim(domain_length):
+        raise InputError("grid_points and domain_length are single numbers for a line "
+                         "indenter (pairs [nx, ny], [Lx, Ly] are for 3D indenters)")
+    shown = f"[{MIN_POINTS}, {MAX_POINTS}] (2^22)"
+    big = check_grid_points(grid_points, MIN_POINTS, 2**62, "fft grid points", even=True,
+                            shown=shown) \
+        if isinstance(grid_points, (int, float)) and grid_points > MAX_POINTS else None
+    if big is not None:
+        raise InputError(
+            f"{named('grid_points')} (fft grid points) must be in {shown}; {big} would need "
+            f"~{big * _BYTES_PER_POINT / 1e9:.1f} GB")
+    grid_points = check_grid_points(grid_points, MIN_POINTS, MAX_POINTS, "fft grid points",
+                                    even=True, shown=shown)
+    if domain_length is not None:
+        domain_length = check_positive("domain_length", domain_length, "h")
+    return grid_points, domain_length
+
+
 def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points: int | None = None,
               domain_length: float | None = None, progress=None) -> ContactResult:
     """Solve ``scene`` with the spectral method.
@@ -271,6 +297,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     progress : optional callable(str), told about each level (default: this module's INFO
         log, as the surfaces' ``solve_fft3d``).
     """
+    grid_points, domain_length = _check_fixed(grid_points, domain_length)
     prob = Problem(scene, model, tol, adaptive=not grid_points,
                    progress=_log if progress is None else progress)
     if prob.visco and grid_points is None and domain_length is None:
