@@ -147,3 +147,22 @@ def test_onset_warning_names_every_share_above_tol(capsys):
     assert m, err[0]
     total, step, grid = (float(v) for v in m.groups())
     assert step > 1e-2 and grid > 1e-2 and total == pytest.approx(step + grid, rel=0.1)
+
+
+def test_invert_warns_on_a_tensile_record(capsys, tmp_path, monkeypatch):
+    """base_sigma_zz with the wrong sign (> 0 in compression): the inversion answered P < 0
+    (-114 +- 110 N/m on a 1 %-noise record) with nothing said; now a warning asks for the sign.
+    The right sign gives no such warning."""
+    from spectral_contact import solve
+
+    r = solve(tol=1e-3)
+    sel = np.abs(r.x_m) < 0.008
+    x, zz, xz = (a[sel][::4] for a in (r.x_m, r.base_sigma_zz_Pa, r.base_sigma_xz_Pa))
+    monkeypatch.chdir(tmp_path)
+    for sign in (-1.0, 1.0):
+        (tmp_path / "r.csv").write_text("x_m,base_sigma_zz_Pa,base_sigma_xz_Pa\n" + "\n".join(
+            f"{a:.17g},{sign * b:.17g},{c:.17g}" for a, b, c in zip(x, zz, xz)) + "\n")
+        capsys.readouterr()
+        assert main(["invert", "r.csv", "--prior", "contact"]) == 0
+        err = capsys.readouterr().err
+        assert ("is its sign right?" in err) is (sign < 0), err
