@@ -113,6 +113,13 @@ def _cmd_invert(args) -> int:
               f"beyond the record [{rec['record_m'][0] * 1e3:.3g}, {rec['record_m'][1] * 1e3:.3g}]"
               f" mm: P, Q and the edge there are the prior's extrapolation (JSON: "
               f"\"contact_within_record\": false)", file=sys.stderr)
+    names = {"base": "base_sigma_zz_Pa < 0", "sensor": "S_zz_Pa > 0 (U_zz_mV > 0)"}
+    if rec["load_N_per_m"] < 0 and float(zz.sum()) < 0:  # the record itself pulls
+        import sys
+
+        print(f"warning: P = {rec['load_N_per_m']:.4g} N/m < 0 and the record's normal stress "
+              f"is tensile on the whole: is its sign right? ({names.get(view, view)} in "
+              f"compression)", file=sys.stderr)
     return 0
 
 
