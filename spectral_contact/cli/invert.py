@@ -47,8 +47,10 @@ def register(subparsers) -> None:
                    help="radial G_xz instead of the paper's; S/U files only")
     p.add_argument("--positive", action="store_true", help="constrain p >= 0")
     p.add_argument("--prior", choices=("auto", "contact", "envelope"), default="auto",
-                   help="lines: the prior; auto (default) fits both and keeps the one of higher "
-                        "evidence (the choice is in the JSON's regularisation.prior_choice)")
+                   help="the prior: contact (shaped on a contact window, maps: an ellipse), envelope "
+                        "(maps: the smooth stationary prior) or auto (default: fits both and "
+                        "keeps the one of higher evidence; the choice is in the JSON's "
+                        "regularisation.prior_choice)")
     p.add_argument("--support", type=float, nargs=2, metavar=("A_M", "B_M"), default=None,
                    help="known contact interval [m] (p = q = 0 outside)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
