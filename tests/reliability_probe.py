@@ -272,6 +272,19 @@ CASES = [
     ([S, "--speed", "0.05", "--prony", "2.2e6,0.01", "--poisson", "0.3"], {2}, "visco nu < 1/2"),
     ([S, "--speed", "0.05", "--prony", "2.2e6,0.01", "--tol", "1e-2", "--profiles", "p.csv"],
      {2}, "visco closed stdout", None, {"stdout": "closed"}),
+    # reliab pass (this session): NPZ names, maps' ranges, a record ending inside the contact
+    (["invert", "m.npz", "--out", "t.csv"], {2}, "invert maps: --out not .npz"),
+    ([S, "--indenter", "sphere", "--maps", "m.csv"], {2}, "solve --maps not .npz"),
+    (["onset", "--indenter", "sphere", "--maps", "m.txt"], {2}, "onset --maps not .npz"),
+    (["invert", "m_huge.npz"], {2}, "invert maps huge values"),
+    (["invert", "m_sub.npz"], {2}, "invert maps subnormal values"),
+    (["invert", "m_mm.npz"], {2}, "invert maps axes in millimetres"),
+    (["invert", "m_nan.npz"], {2}, "invert maps NaN cell"),
+    (["invert", "m_mixed.npz"], {2}, "invert maps mixed views"),
+    (["invert", "m_text.npz"], {2}, "invert maps not an NPZ"),
+    (["invert", "m.npz", "--positive"], {2}, "invert maps --positive"),
+    (["invert", "rec_trail.csv", "--json", "--prior", "contact"], {0},
+     "invert a record ending inside the contact: flagged", '"contact_within_record": false'),
     # negative numbers in any notation are values (argparse < 3.13 took -1e-3 for an option)
     ([S, "--mu", "-1e-3", "--tol", "1e-2"], {0}, "negative scientific mu", "mu_d = -0.001"),
     ([S, "--mu", "-1e4"], {2}, "negative scientific mu out of range"),
@@ -331,6 +344,24 @@ def _fixtures(d: Path):
     nan = base[0].copy()
     nan[5] = np.nan
     rec("rec_nan.csv", x, nan, base[1])
+    tr = (r.x_m > -0.012) & (r.x_m < 0.0)
+    rec("rec_trail.csv", r.x_m[tr][::4], -r.base_sigma_zz_Pa[tr][::4], r.base_sigma_xz_Pa[tr][::4])
+    n = 12
+    xm, zm = np.arange(n) * 1e-3, np.zeros((n, n))
+    one = zm.copy()
+    one[6, 6] = 1e3
+    nanm = one.copy()
+    nanm[3, 3] = np.nan
+    for name, kw in (("m.npz", {"base_sigma_zz_Pa": one}), ("m_huge.npz", {"base_sigma_zz_Pa": one * 1e300}),
+                     ("m_sub.npz", {"base_sigma_zz_Pa": one * 1e-313}),
+                     ("m_nan.npz", {"base_sigma_zz_Pa": nanm}),
+                     ("m_mixed.npz", {"base_sigma_zz_Pa": one, "S_zz_Pa": one, "S_xz_Pa": zm,
+                                      "S_yz_Pa": zm})):
+        np.savez(d / name, **{"x_m": xm, "y_m": xm, "base_sigma_xz_Pa": zm,
+                              "base_sigma_yz_Pa": zm, **kw})
+    np.savez(d / "m_mm.npz", x_m=xm * 1e3, y_m=xm * 1e3, base_sigma_zz_Pa=one,
+             base_sigma_xz_Pa=zm, base_sigma_yz_Pa=zm)
+    (d / "m_text.npz").write_text("x_m,a\n1,2\n")
     sel = np.abs(r.x_m) < 0.016
     (d / "mm.csv").write_text("x_m,S_zz_Pa,S_xz_Pa\n" + "\n".join(
         f"{a * 1e3:.17g},{b:.17g},{c:.17g}" for a, b, c in

@@ -130,3 +130,39 @@ def test_invert_flags_a_contact_beyond_the_record(capsys, tmp_path, monkeypatch)
         assert rec["contact_within_record"] is inside
         assert rec["record_m"] == pytest.approx([x[0], x[-1]], abs=1e-4)
         assert ("reaches beyond the record" in err) is (not inside)
+
+
+def test_onset_warning_names_every_share_above_tol(capsys):
+    """A fixed coarse grid and few load steps: the warning named only the load steps (their
+    share 4.1e-2 on the sphere at 48^2, the whole 1.7e-1) and hid the grid's.  Now each share
+    above --tol is named (line at 128 points: 8.1e-2 load steps, 1.8e-2 grid)."""
+    import re
+
+    assert main(["onset", "--steps", "2", "--loading-steps", "2", "--grid-points", "128",
+                 "--json"]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    m = re.search(r"estimate (\S+) > --tol .*load steps' share (\S+):.*the grid's share (\S+) at "
+                  r"the fixed --grid-points 128", err[0])
+    assert m, err[0]
+    total, step, grid = (float(v) for v in m.groups())
+    assert step > 1e-2 and grid > 1e-2 and total == pytest.approx(step + grid, rel=0.1)
+
+
+def test_invert_warns_on_a_tensile_record(capsys, tmp_path, monkeypatch):
+    """base_sigma_zz with the wrong sign (> 0 in compression): the inversion answered P < 0
+    (-114 +- 110 N/m on a 1 %-noise record) with nothing said; now a warning asks for the sign.
+    The right sign gives no such warning."""
+    from spectral_contact import solve
+
+    r = solve(tol=1e-3)
+    sel = np.abs(r.x_m) < 0.008
+    x, zz, xz = (a[sel][::4] for a in (r.x_m, r.base_sigma_zz_Pa, r.base_sigma_xz_Pa))
+    monkeypatch.chdir(tmp_path)
+    for sign in (-1.0, 1.0):
+        (tmp_path / "r.csv").write_text("x_m,base_sigma_zz_Pa,base_sigma_xz_Pa\n" + "\n".join(
+            f"{a:.17g},{sign * b:.17g},{c:.17g}" for a, b, c in zip(x, zz, xz)) + "\n")
+        capsys.readouterr()
+        assert main(["invert", "r.csv", "--prior", "contact"]) == 0
+        err = capsys.readouterr().err
+        assert ("is its sign right?" in err) is (sign < 0), err

@@ -47,8 +47,10 @@ def register(subparsers) -> None:
                    help="radial G_xz instead of the paper's; S/U files only")
     p.add_argument("--positive", action="store_true", help="constrain p >= 0")
     p.add_argument("--prior", choices=("auto", "contact", "envelope"), default="auto",
-                   help="lines: the prior; auto (default) fits both and keeps the one of higher "
-                        "evidence (the choice is in the JSON's regularisation.prior_choice)")
+                   help="the prior: contact (shaped on a contact window, maps: an ellipse), envelope "
+                        "(maps: the smooth stationary prior) or auto (default: fits both and "
+                        "keeps the one of higher evidence; the choice is in the JSON's "
+                        "regularisation.prior_choice)")
     p.add_argument("--support", type=float, nargs=2, metavar=("A_M", "B_M"), default=None,
                    help="known contact interval [m] (p = q = 0 outside)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -113,6 +115,13 @@ def _cmd_invert(args) -> int:
               f"beyond the record [{rec['record_m'][0] * 1e3:.3g}, {rec['record_m'][1] * 1e3:.3g}]"
               f" mm: P, Q and the edge there are the prior's extrapolation (JSON: "
               f"\"contact_within_record\": false)", file=sys.stderr)
+    names = {"base": "base_sigma_zz_Pa < 0", "sensor": "S_zz_Pa > 0 (U_zz_mV > 0)"}
+    if rec["load_N_per_m"] < 0 and float(zz.sum()) < 0:  # the record itself pulls
+        import sys
+
+        print(f"warning: P = {rec['load_N_per_m']:.4g} N/m < 0 and the record's normal stress "
+              f"is tensile on the whole: is its sign right? ({names.get(view, view)} in "
+              f"compression)", file=sys.stderr)
     return 0
 
 
