@@ -274,7 +274,7 @@ def onset(scene: Scene | None = None, *, steps: int = 20, tol: float | None = No
                 raise InputError(f"onset: {exc}") from None
     elif params:
         scene = scene.with_(**params)
-    if isinstance(scene, Scene3D):
+    if scene.dimension == "surface":  # the surface onset (onset3d), else the line below
         from .onset3d import DEFAULT_TOL_3D, solve_onset3d
 
         steps = _check_int("steps (--steps)", steps, 1, MAX_STEPS)
