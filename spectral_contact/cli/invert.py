@@ -152,9 +152,8 @@ def _invert_text(args, rec, view) -> str:
             lines.append("  (?: the contact edge's sd is not determined: the window's Laplace step "
                          "was not taken or an edge is at its search bound, e.g. beyond the record;"
                          " JSON null)")
-        from ..instruments.inverse_laws import law_lines
+        from ..instruments.inverse_laws import best_line, law_lines
 
         lines += law_lines(laws)
-        lines.append(f"  best law (AIC): {laws['best']}" if laws.get("best")
-                     else f"  best law (AIC): none ({laws.get('note', 'no law could be fitted')})")
+        lines.append(best_line(laws))
         return "\n".join(lines)

@@ -64,9 +64,8 @@ def _text(args, rec, view) -> str:
         f"yz {rec['noise_sd_yz_Pa']:.3g} Pa (by evidence; log-evidence "
         f"{rec['log_evidence']:.2f})"]
     laws = rec["laws"]
-    from ..instruments.inverse_laws import law_lines
+    from ..instruments.inverse_laws import best_line, law_lines
 
     lines += law_lines(laws)
-    lines.append(f"  best law (AIC): {laws.get('best')}" if laws.get("best")
-                 else f"  laws: {laws.get('note', 'none')}")
+    lines.append(best_line(laws))
     return "\n".join(lines)

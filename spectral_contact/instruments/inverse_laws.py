@@ -3,7 +3,10 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["fit_laws"]
+__all__ = ["fit_laws", "law_lines", "best_line", "REJECT_P"]
+
+REJECT_P = 1e-3
+"""A law whose chi^2 p-value is below this is rejected by the pairs' uncertainties."""
 
 _LAWS = {
     "amontons": (("mu",), lambda p, th: th[0] * p, lambda p, th: np.full_like(p, th[0])),
@@ -82,6 +85,12 @@ def fit_laws(p, q, Cpp, Cqq, Cpq) -> dict:
         out[law] = rec
     fitted = {k: v for k, v in out.items() if "aic" in v}
     out["best"] = min(fitted, key=lambda k: fitted[k]["aic"]) if fitted else None
+    if fitted and all(v["p_value"] < REJECT_P for v in fitted.values()):
+        # AIC ranks the laws but does not test them: say when none fits (a noise-free record,
+        # whose noise floor is below the forward model's own error, or a law outside these)
+        out["note"] = (f"every law rejected by chi2 (p < {REJECT_P:g}): the best by AIC is the "
+                       f"least bad, not a description of the pairs (noise-free data, or a law "
+                       f"outside these three)")
     return out
 
 
@@ -98,3 +107,12 @@ def law_lines(laws: dict) -> list[str]:
         lines.append(f"  law {law:<9s} {pars}; chi2 {r['chi2']:.1f}/{r['dof']} "
                      f"(p {r['p_value']:.2g}), AIC {r['aic']:.1f}")
     return lines
+
+
+def best_line(laws: dict) -> str:
+    """The summaries' closing line: the best law by AIC, with the record's note when every law
+    is rejected, or why none was fitted."""
+    note = laws.get("note")
+    if laws.get("best"):
+        return f"  best law (AIC): {laws['best']}" + (f" ({note})" if note else "")
+    return f"  best law (AIC): none ({note or 'no law could be fitted'})"
