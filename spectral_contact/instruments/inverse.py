@@ -188,10 +188,12 @@ def _mix_modes(ev, modes, free, hyper, h, known):
     if len(modes) > 1:  # l_p is integrated by the profile's points (``inverse_prior._modes``)
         held[3] = False
     for (th, _), wt in zip(modes, wts):
-        _, (mk, ck, _) = ev.evaluate(th, full=True)
         sig, idx = None, []
         if hyper and (wt >= PROPAGATE_MIN_WEIGHT or len(modes) == 1):
-            mk, ck, sig, idx = propagate(ev, th, held, mk, ck)
+            le, g, (mk, ck, _) = ev.evaluate(th, grad=True, full=True)
+            mk, ck, sig, idx = propagate(ev, th, held, mk, ck, centre=(le, g))
+        else:
+            _, (mk, ck, _) = ev.evaluate(th, full=True)
         means.append(mk)
         covs.append(ck)
         windows.append(_window_interval(th, sig, idx, h, known))

@@ -341,12 +341,13 @@ def optimise_contact(ev: ContactPrior, dz, dx, window=None, start=None, noise_fl
     return th, v, free
 
 
-def _scan_edges(ev: ContactPrior, th, reach=1.0, step=0.125):
+def _scan_edges(ev: ContactPrior, th, reach=1.0, step=0.125, value=None):
     """The window's edges, one at a time, over +- ``reach`` [h] at ``step`` with the other
     hyperparameters held: the evidence can have a second maximum in an edge's position (the
     film blurs the edge over ~h) that a local search started on the wrong side does not leave.
-    Returns (theta, log-evidence) of the best point seen."""
-    best, bv = th, ev.evaluate(th)
+    ``value``: the log-evidence at th if known.  Returns (theta, log-evidence) of the best point
+    seen."""
+    best, bv = th, (ev.evaluate(th) if value is None else value)
     for side in (-1.0, 1.0):
         a, b = best[0] - math.exp(best[1]), best[0] + math.exp(best[1])
         for d in np.arange(-reach, reach + 1e-9, step):
@@ -364,7 +365,7 @@ def _scan_edges(ev: ContactPrior, th, reach=1.0, step=0.125):
     return best, bv
 
 
-def propagate(ev: ContactPrior, theta, free, mean, S, step=1e-3):
+def propagate(ev: ContactPrior, theta, free, mean, S, step=1e-3, centre=None):
     """The nodal tractions' mean and covariance with the hyperparameters integrated over.
 
     Interior hyperparameters: Laplace, S + J Sigma_theta J^T (module docstring).  A length (l_p,
@@ -373,8 +374,12 @@ def propagate(ev: ContactPrior, theta, free, mean, S, step=1e-3):
     instead: a log-uniform prior on a grid of ``BOUND_GRID`` in log l inward from the bound,
     each point's posterior weighted by its evidence (the other hyperparameters held); the
     mixture's mean and covariance (within plus between the points) replace the fixed-l ones.
-    Other hyperparameters at a bound are held.  Returns (mean, covariance, Sigma_theta over the
-    interior hyperparameters, their indices)."""
+    Other hyperparameters at a bound are held.  ``centre`` = (log-evidence, gradient) at theta
+    (from the caller's evaluation that gave mean and S): then the bound grid's first point is
+    theta's own posterior and the Laplace step's differences are one-sided from theta (d
+    evaluations instead of 2 d; the step, 1e-3 in the logs, is far below the hyperparameters'
+    Laplace sd of 1e-2 ... 1).  Returns (mean, covariance, Sigma_theta over the interior
+    hyperparameters, their indices)."""
     lo, hi = _bounds(ev, 1.0)
     # bounds were made for the scaled data: scale 1 is the data's scale in the core
     idx = [k for k in np.nonzero(free)[0]
@@ -388,6 +393,11 @@ def propagate(ev: ContactPrior, theta, free, mean, S, step=1e-3):
         vals = vals[(vals >= lo[k] - 1e-9) & (vals <= hi[k] + 1e-9)]
         les, ms, Ss = [], [], []
         for v in vals:
+            if centre is not None and v == theta[k]:
+                les.append(centre[0])
+                ms.append(mean)
+                Ss.append(S)
+                continue
             t = theta.copy()
             t[k] = v
             try:
@@ -411,10 +421,15 @@ def propagate(ev: ContactPrior, theta, free, mean, S, step=1e-3):
     Hs = np.zeros((d, d))
     J = np.zeros((mean.size, d))
     for a, k in enumerate(idx):
-        tp, tm = theta.copy(), theta.copy()
+        tp = theta.copy()
         tp[k] += step
-        tm[k] -= step
         _, gp, (mp, _, _) = ev.evaluate(tp, grad=True, full=True)
+        if centre is not None:
+            Hs[:, a] = -(gp[idx] - centre[1][idx]) / step
+            J[:, a] = (mp - mean) / step
+            continue
+        tm = theta.copy()
+        tm[k] -= step
         _, gm, (mm, _, _) = ev.evaluate(tm, grad=True, full=True)
         Hs[:, a] = -(gp[idx] - gm[idx]) / (2 * step)
         J[:, a] = (mp - mm) / (2 * step)
@@ -457,7 +472,7 @@ def fit_contact(xh, film, symbols, zs, xs, support=None):
     fwd = LineForward.build(xh, film, symbols, step=COARSE_STEP_H)
     ev = ContactPrior(fwd, zs, xs)
     th, le, free = optimise_contact(ev, zs, xs)
-    th, le = _scan_edges(ev, th, reach=1.5, step=0.25)
+    th, le = _scan_edges(ev, th, reach=1.5, step=0.25, value=le)
     c, w0 = th[0], math.exp(th[1])
     lo = max(c - w0 - EDGE_SPAN_H, xh[0] - MARGIN_H)
     hi = min(c + w0 + EDGE_SPAN_H, xh[-1] + MARGIN_H)
@@ -465,7 +480,7 @@ def fit_contact(xh, film, symbols, zs, xs, support=None):
     ev = ContactPrior(fwd, zs, xs)
     th, le, free = optimise_contact(ev, zs, xs, start=th)
     for _ in range(2):  # leave a wrong side of a bimodal edge
-        t2, v2 = _scan_edges(ev, th)
+        t2, v2 = _scan_edges(ev, th, value=le)
         if v2 <= le + 0.01:
             break
         th, le, free = optimise_contact(ev, zs, xs, start=t2)
