@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["fit_laws", "law_lines", "best_line", "REJECT_P"]
+__all__ = ["fit_laws", "law_lines", "best_line", "law_curves", "REJECT_P"]
 
 REJECT_P = 1e-3
 """A law whose chi^2 p-value is below this is rejected by the pairs' uncertainties."""
@@ -116,3 +116,15 @@ def best_line(laws: dict) -> str:
     if laws.get("best"):
         return f"  best law (AIC): {laws['best']}" + (f" ({note})" if note else "")
     return f"  best law (AIC): none ({note or 'no law could be fitted'})"
+
+
+_CURVES = {"amontons": lambda p, r: r["mu"] * p,
+           "linear": lambda p, r: r["tau0_Pa"] + r["alpha"] * p,
+           "power": lambda p, r: r["k_Pa"] * (p / r["p_ref_Pa"]) ** r["n"]}
+
+
+def law_curves(laws: dict, p) -> list:
+    """(label, q(p) [Pa]) of every fitted law of ``fit_laws``' record at pressures ``p`` [Pa],
+    for the q-against-p panels of the line and map inversions' plots."""
+    return [(f"{law} (AIC {laws[law]['aic']:.1f})", f(np.asarray(p, float), laws[law]))
+            for law, f in _CURVES.items() if "aic" in laws.get(law, {})]

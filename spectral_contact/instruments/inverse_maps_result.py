@@ -5,6 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .inverse_laws import law_curves
 from .inverse_result import LineInversion
 
 __all__ = ["MapInversion", "MAP_OUT_KEYS"]
@@ -143,13 +144,8 @@ class MapInversion:
             a.errorbar(pr["p"] * kPa, pr["q"] * kPa, xerr=pr["p_sd"] * kPa, yerr=pr["q_sd"] * kPa,
                        fmt="k.", ms=3, lw=0.5, label="local (p, q_par), 1 sd")
             pp = np.linspace(0, float(pr["p"].max()), 50)
-            laws = r["laws"]
-            for law, f in (("amontons", lambda p, rr: rr["mu"] * p),
-                           ("linear", lambda p, rr: rr["tau0_Pa"] + rr["alpha"] * p),
-                           ("power", lambda p, rr: rr["k_Pa"] * (p / rr["p_ref_Pa"]) ** rr["n"])):
-                rec = laws.get(law, {})
-                if "aic" in rec:
-                    a.plot(pp * kPa, f(pp, rec) * kPa, label=f"{law} (AIC {rec['aic']:.1f})")
+            for label, qq in law_curves(r["laws"], pp):
+                a.plot(pp * kPa, qq * kPa, label=label)
         a.set_xlabel("p [kPa]")
         a.set_ylabel("q along the total shear [kPa]")
         a.legend(fontsize=7)

@@ -5,6 +5,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .inverse_laws import law_curves
+
 __all__ = ["LineInversion"]
 
 
@@ -106,13 +108,8 @@ class LineInversion:
                    xerr=self.pressure_sd_Pa[res] * kPa, yerr=self.shear_sd_Pa[res] * kPa,
                    fmt="k.", ms=3, lw=0.5, label="local (p, q), 1 sd")
         pp = np.linspace(0, max(self.pressure_Pa[res].max() if res.any() else 1.0, 1.0), 50)
-        laws = self.record["laws"]
-        for law, f in (("amontons", lambda p, r: r["mu"] * p),
-                       ("linear", lambda p, r: r["tau0_Pa"] + r["alpha"] * p),
-                       ("power", lambda p, r: r["k_Pa"] * (p / r["p_ref_Pa"]) ** r["n"])):
-            rec = laws.get(law, {})
-            if "aic" in rec:
-                a.plot(pp * kPa, f(pp, rec) * kPa, label=f"{law} (AIC {rec['aic']:.1f})")
+        for label, qq in law_curves(self.record["laws"], pp):
+            a.plot(pp * kPa, qq * kPa, label=label)
         a.set_xlabel("p [kPa]")
         a.set_ylabel("q [kPa]")
         a.legend(fontsize=7)
