@@ -236,15 +236,18 @@ def _level_sizes(L, a, tol, grid_points, domain_length, edge_scales=()):
     """The grid sizes of the refinement levels on the period L (in h).  ``edge_scales``
     (viscoelastic film: (|V| tau_i, E_i/E_inf) per Prony term): a term whose edge structure
     moves the contact by more than VISCO_EDGE_SHARE tol (weight x width / a) has its width
-    spanned by VISCO_EDGE_CELLS cells on the second level (half that on the first), so that
-    two levels which both miss it cannot agree by chance."""
+    spanned by VISCO_EDGE_CELLS cells on the third level (the first that may stop; half that on
+    the second, a quarter on the first): the stop needs two level differences that converge,
+    so levels which all miss it cannot agree by chance."""
     if grid_points:
         return [grid_points // 2, grid_points]
     across = max(_FIRST_ACROSS, _EDGE_ERROR / tol)
     n1 = pow2_at_least(L / (2 * a / across), MIN_POINTS)
     for width, weight in edge_scales:
         if weight * width / a > VISCO_EDGE_SHARE * tol:
-            n1 = max(n1, pow2_at_least(VISCO_EDGE_CELLS * L / width, MIN_POINTS))
+            # VISCO_EDGE_CELLS cells on the third level (the first that may stop), so the
+            # second has half that: the level differences see the edge converge
+            n1 = max(n1, pow2_at_least(VISCO_EDGE_CELLS * L / (2 * width), MIN_POINTS))
     if n1 > MAX_POINTS and domain_length is not None:
         raise InputError(
             f"domain_length {domain_length:.4g} h needs ~{n1:.1e} grid points to resolve "

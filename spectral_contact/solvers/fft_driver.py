@@ -57,9 +57,10 @@ VISCO_EDGE_SHARE = 0.25  # an unresolved term moves x_c and a by up to ~0.6 E_i/
 # levels' sizes), the others' weight x width / size is added to the error estimate
 # (``unresolved_edges``).  Cells: 4 before; a_H/h 1 at V tau/h = 0.016 against 4 times the
 # points: relative error 1.6e-3, 4.2e-4, 1.4e-4, 2.5e-5 at 0.9, 1.8, 3.7, 7.3 cells across
-# V tau (second order from ~1 cell on), so the first level spans >= 1 cell, the third (the
-# first that may stop) >= 4; the level differences see the edge converge (estimate sweep:
-# studies/README, viscoelastic)
+# V tau (second order from ~1 cell on), so the third level (the first that may stop) spans
+# >= 2 cells, the first >= 0.5; the level differences see the edge converge (true error
+# against 4 times finer cells on twice the period 4e-5 - 1e-4 below estimates 2e-4 - 8e-4 at
+# six edge-resolving points: studies/README, viscoelastic, cost; it was >= 4 cells on the third)
 STAGNATION_DOUBLINGS = 3
 
 
