@@ -460,7 +460,7 @@ def _laws(xn, p, q, cov_si, resolved, interval, res_len):
     idx = np.nonzero(resolved & inside)[0]
     laws = fit_laws(p[idx], q[idx], cov_si[np.ix_(idx, idx)], cov_si[np.ix_(m + idx, m + idx)],
                     cov_si[np.ix_(idx, m + idx)])
-    if "note" in laws:  # say which nodes count, so that the text and JSON give the reason
+    if "note" in laws and not laws.get("best"):  # no law fitted: say which nodes count
         laws["note"] += (f" (the fits use nodes where p > {RESOLVED_Z:g} sd(p), at least "
                          f"{LAW_EDGE_GUARD:g} resolution lengths inside the contact interval; "
                          f"{int(resolved.sum())} of {m} nodes have p > {RESOLVED_Z:g} sd)")
