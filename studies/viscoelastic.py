@@ -27,8 +27,10 @@ claim      the paper's "purely elastic" film: a standard linear solid whose peak
 images     the periodic images of the full-path line solves (the fixed grid on its period
            and on twice it: same cells) against the estimate's image term, which is the
            elastic one times ViscoelasticFilm.image_factor where every tail is short or
-           summed (not measured there): paper's scene (also mirrored, V < 0 with mu < 0; a
-           two-term series; tol 1e-4), a_H/h = 0.1, 1, 3; 15 speeds 1e-6 ... 10 m/s.
+           summed and the contact frictionless (not measured there; else measured):
+           a_H/h = 0.1, 1, 3 (a_H/h = 1 also mirrored, V < 0; a two-term series; tol 1e-4;
+           a film 11 times stiffer when glassy, E_1 = 10 E_inf), the paper's scene (mu 2:
+           measured; also mirrored, two terms, tol 1e-4, stiffer); 15 speeds 1e-6 ... 10 m/s.
 figure     viscoelastic.png: mu_def and a against V; the claim's changes; the base stresses
            and their MEMS view at one speed.
 """
@@ -201,6 +203,7 @@ def part_estimate(quick: bool, out, t0) -> list[dict]:
 
 
 TWO_TERMS = ((E_INF, 1e-3), (E_INF, 0.1))  # a short and a long tail together (tau_r 5.2 ms, 0.39 s)
+STIFF = ((10.0 * E_INF, TAU),)  # E_0 = 11 E_inf: tau_r = 0.11 s
 
 
 def _line_change(r, ref) -> float:
@@ -216,14 +219,23 @@ def _line_change(r, ref) -> float:
 def part_images(quick: bool, out, t0) -> list[dict]:
     """The periodic images of full-path line solves against the bound the estimate now uses
     where the film's far field is bounded (``ViscoelasticFilm.image_factor``: every tail short
-    or summed; else measured on twice the period, as before): period_difference is the fixed
-    grid of the solve (N on L) against 2N on 2L (same cells, same path: the images alone)."""
+    or summed) and the contact frictionless; else measured on twice the period, as before
+    (column ``images``): period_difference is the fixed grid of the solve (N on L) against 2N
+    on 2L (same cells, same path: the images alone)."""
     speeds = (1e-3, 1e-2, 1.0) if quick else tuple(float(v) for v in np.logspace(-6, 1, 15))
     scenes = [("paper", 200.0, 2.0, 1.0, SLS, 1e-3), ("paper mirrored", 200.0, -2.0, -1.0, SLS, 1e-3),
               ("paper two terms", 200.0, 2.0, 1.0, TWO_TERMS, 1e-3),
               ("paper tol 1e-4", 200.0, 2.0, 1.0, SLS, 1e-4)]
     scenes += [(f"aH/h={s_:g}", load_for(s_), 0.0, 1.0, SLS, 1e-3) for s_ in
                ((0.1,) if quick else (0.1, 1.0, 3.0))]
+    if not quick:  # frictionless (the bound's range): mirrored, two terms, tol 1e-4; glassy
+        # 11 times stiffer (image factors up to ~11; measured past 12.5), also with friction
+        a1 = load_for(1.0)
+        scenes += [("aH/h=1 mirrored", a1, 0.0, -1.0, SLS, 1e-3),
+                   ("aH/h=1 two terms", a1, 0.0, 1.0, TWO_TERMS, 1e-3),
+                   ("aH/h=1 tol 1e-4", a1, 0.0, 1.0, SLS, 1e-4),
+                   ("aH/h=1 E_1=10E_inf", a1, 0.0, 1.0, STIFF, 1e-3),
+                   ("paper E_1=10E_inf", 200.0, 2.0, 1.0, STIFF, 1e-3)]
     if quick:
         scenes = scenes[:1] + scenes[-1:]
     rows = []
@@ -234,7 +246,9 @@ def part_images(quick: bool, out, t0) -> list[dict]:
             r = solve_fft(s, tol=tol)
             row = {"scene": name, "tol": tol, "mu": mu, "speed_m_per_s": sign * V,
                    "path": "slow" if "slow_sliding" in r.info else "full",
-                   "image_factor": s.core_film().image_factor(), "grid_points": r.grid_points,
+                   "image_factor": s.core_film().image_factor(),
+                   "images": "measured" if r.info["domain_difference"] else "bounded",
+                   "grid_points": r.grid_points,
                    "period_h": r.domain_length, "image_error": r.info["image_error"],
                    "domain_difference": r.info["domain_difference"],
                    "error_estimate": r.error_estimate, "period_difference": float("nan"),

@@ -9,7 +9,8 @@ Scenes: the paper's (P_L = 200 N/m, mu = 2) and frictionless lines of Hertz half
 wall times (each the fastest of 7 warm runs, the elastic and the viscoelastic solve
 interleaved; 1 run past 5 s; the ratio on CPU time: ``_timed_pair``), FFT pairs, final grid
 points, the path taken (slow: ``solvers.visco_slow``, full: the viscoelastic resolution
-control), the ratios, and whether the (CPU) time ratio is <= 3.  Timings depend on the machine's load (printed in the meta title).
+control), the ratios, and whether the (CPU) time ratio is <= 3.  Timings depend on the
+machine's load (printed in the meta title).
 """
 from __future__ import annotations
 

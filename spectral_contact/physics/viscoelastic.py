@@ -289,12 +289,15 @@ class ViscoelasticFilm(Film):
 
             factor = max(|R(i kappa)|, |R(-i kappa)|) / r      (>= 1),
 
-        times the elastic film's (the line solver's measured amplitude, in its estimate; where
-        that passes tol/4 on the period's margin, factor > 12.5, it measures them).  Checked
-        on `python -m studies.viscoelastic --parts images` (the fixed grid on its period
-        against twice it, 52 full-path solves: 0.07-0.82 of the bound); without the 1/r the
-        paper's scene at 0.32 m/s (kappa l_r = 2.3, a glassy contact under a far field
-        R(i kappa) = 0.65) was 1.07 times the bound."""
+        times the elastic film's (the line solver's measured amplitude, in its estimate, on
+        frictionless contacts; where that passes tol/4 on the period's margin, factor > ~12.5,
+        or with friction it measures them).  Checked on `python -m studies.viscoelastic
+        --parts images` (the fixed grid on its period against twice it, 54 frictionless
+        full-path solves: 0.02-0.24 of the bound).  Without the 1/r the paper's scene (mu 2)
+        at 0.32 m/s (kappa l_r = 2.3, a glassy contact under a far field R(i kappa) = 0.65)
+        was 1.07 times the bound; with it, on a film 11 times stiffer when glassy, 1.6 times:
+        friction can bring the indentation d (relative to itself in the estimate) far below
+        the elastic film's, which the 1/r does not bound (``solvers.fft``)."""
         if not self.moving:
             return 1.0
         r, terms = self.partial_fractions()
