@@ -283,16 +283,34 @@ class _Linear:
 
 def _update(sets, fields, prev_delta, u_prev, mu, gross, qdir, cautious, load=None):
     """The next sets from the last solve: (contact, stick, t), the slip increment's
-    (ds, |ds|, scale), the kept slip nodes and the directions' turn (see the module)."""
+    (ds, the next Newton term's s . t, scale) and the directions' turn (see the module).
+    Only the nodes in contact before or after are looked at (p and q vanish elsewhere): the
+    rules run on them (``_update_nodes``) and the results are scattered."""
     contact, stick, t = sets
     p, q, w, u, d, delta, gap = fields
     ds = (delta - prev_delta)[:, None] - (u - u_prev)
-    dsu, dsn = _unit(ds)
-    pmax = max(float(p.max()), 1e-300)
-    ds_scale = max(float(dsn[contact].max()) if contact.any() else 0.0,
-                   float(np.sqrt(((delta - prev_delta) ** 2).sum())), 1e-300)
-    qu, qn = _unit(q)
     new_contact = np.where(contact, p >= 0.0, gap < 0.0)
+    idx = np.flatnonzero(contact | new_contact)
+    (c_i, s_i, t_i), newton_i, ds_scale, turn = _update_nodes(
+        contact[idx], stick[idx], t[:, idx], p[idx], q[:, idx], ds[:, idx], new_contact[idx],
+        delta - prev_delta, mu, gross, qdir, cautious, load)
+    new_stick = np.zeros_like(stick)
+    new_stick[idx] = s_i
+    new_t = np.zeros_like(t)
+    new_t[:, idx] = t_i
+    newton = np.zeros(p.size)
+    newton[idx] = newton_i
+    return (new_contact, new_stick, new_t), (ds, newton, ds_scale), turn
+
+
+def _update_nodes(contact, stick, t, p, q, ds, new_contact, ddelta, mu, gross, qdir, cautious,
+                  load):
+    """``_update``'s rules on the nodes it looks at (all arrays restricted to them)."""
+    dsu, dsn = _unit(ds)
+    pmax = max(float(p.max()) if p.size else 0.0, 1e-300)
+    ds_scale = max(float(dsn[contact].max()) if contact.any() else 0.0,
+                   float(np.sqrt((ddelta ** 2).sum())), 1e-300)
+    qu, qn = _unit(q)
     was_stick = stick & new_contact
     excess = qn - mu * p
     to_slip = was_stick & (excess > _SET_TOL * mu * pmax)
@@ -344,7 +362,7 @@ def _update(sets, fields, prev_delta, u_prev, mu, gross, qdir, cautious, load=No
         turn = float(np.max(dt * p[keep])) / pmax
     # the next solve's Newton term across t: the slip along the new direction (floored)
     newton = np.clip((new_t * ds).sum(axis=0), _NEWTON_FLOOR * dsn, dsn)
-    return (new_contact, new_stick, new_t), (ds, newton, ds_scale), turn
+    return (new_contact, new_stick, new_t), newton, ds_scale, turn
 
 
 def _start(g: SlipState, f, nd, qdir):
