@@ -28,8 +28,9 @@ not assumed along Q: the system also holds, on each slip node, the shear r acros
 (q = |mu| p t + r t_perp) and the Newton linearisation of "s parallel to q" across t,
 ((s . t)/(|mu| p)) r = s . t_perp (s, p of the last iteration; s . t floored at
 ``_NEWTON_FLOOR`` |s|; a node that has just begun to slip keeps s along t); t is then turned to
-q/|q| until the change this makes in q, |mu| p |dt|, is below ``dir_tol`` |mu| p_max (default:
-the accepted residual), the inner tolerance following the turn (inexact Newton).  The turn is
+q/|q| until the change this makes in q, |mu| p |dt|, and the excess |q| - |mu| p (r makes |q|
+exceed |mu| p by its square) are below ``dir_tol`` |mu| p_max (default: the accepted residual),
+the inner tolerance following the turn (inexact Newton).  The turn is
 weighed by p as the friction-law check weighs it (below): the direction at the contact's edge,
 where p vanishes, moves no shear (the largest turn was also held below sqrt(dir_tol): edge
 nodes with p ~ 1e-3 p_max then took 2-4 extra solves per tangential step of a sphere on
@@ -356,10 +357,12 @@ def _update_nodes(contact, stick, t, p, q, ds, new_contact, ddelta, mu, gross, q
         new_t[:, j] = 0.0
     turn = 0.0
     if keep.any() and t.shape[0] > 1:  # (on a line the directions are +-1 and stay)
-        # the directions' change weighted by p / p_max (the change of q it makes, over
-        # |mu| p_max: at the contact's edge p vanishes)
+        # how far q is from |mu| p along the new direction, over |mu| p_max: the turn
+        # |mu| p |dt| and the excess |q| - |mu| p (the shear across t makes |q| exceed |mu| p,
+        # by its square; at the contact's edge, where p vanishes, neither moves any shear)
         dt = np.sqrt(((new_t - t) ** 2).sum(axis=0))[keep]
-        turn = float(np.max(dt * p[keep])) / pmax
+        turn = max(float(np.max(dt * p[keep])) / pmax,
+                   float(np.max(excess[keep])) / max(mu * pmax, 1e-300))
     # the next solve's Newton term across t: the slip along the new direction (floored)
     newton = np.clip((new_t * ds).sum(axis=0), _NEWTON_FLOOR * dsn, dsn)
     return (new_contact, new_stick, new_t), newton, ds_scale, turn
@@ -544,7 +547,8 @@ def _finish(op, prev, sets, result, P, Qv, mu, gross, qdir, accept, marginal, cy
     if friction > (_MARGINAL if marginal else accept):
         raise ConvergenceError(
             f"partial slip step (P = {P:.4g}, Q = {Qv}): the stick-slip sets "
-            f"{'cycle' if marginal else 'settle'} with a friction-law violation {friction:.1e}",
+            f"{'cycle' if marginal else 'settle'} with a friction-law violation {friction:.1e} "
+            f"({'coulomb' if res['coulomb'] >= res['slip_direction'] else 'slip direction'})",
             residuals=[friction], iterations=outer)
     res["marginal_nodes"] = int(marginal)
     res["cycles"] = cycles
