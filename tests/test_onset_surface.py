@@ -244,3 +244,26 @@ def test_sphere_loose_criteria_keep_the_answers():
                                                             rel=1e-6, abs=1e-15)
             assert a.residuals["slip_direction"] <= 1e-4
         prev = a
+
+
+def test_row_pruned_transform_equals_the_full_one():
+    """``PartialSlipOperator.transform`` with ``rows`` (the y-passes on a band of rows only)
+    gives the full transform's result on the band, and ``full_output`` on every row: for two
+    bands in turn (the first band's rows must be cleared for the second), both symbols."""
+    g = Grid.centered((64, 64), (10.0, 10.0))
+    op = PartialSlipOperator2D(g)
+    r = op._plan[0]
+    rng = np.random.default_rng(1)
+    for rows, M in (((8, 24), op.M), ((30, 46), op.preconditioner(1.0)), ((30, 46), op.M)):
+        x = np.zeros_like(r)
+        x[:, rows[0]:rows[1]] = rng.standard_normal((3, rows[1] - rows[0], 64))
+        r[:] = x
+        ref = op.transform(M).copy()
+        r[:] = np.nan  # rows outside the band are not read
+        r[:, rows[0]:rows[1]] = x[:, rows[0]:rows[1]]
+        band = op.transform(M, rows)[:, rows[0]:rows[1]]
+        scale = np.abs(ref).max()
+        assert np.abs(band - ref[:, rows[0]:rows[1]]).max() <= 1e-12 * scale
+        assert np.abs(op.full_output() - ref).max() <= 1e-12 * scale
+    assert op.band(np.array([5 * 64 + 3, 9 * 64 + 60])) == (5, 13)  # rows 5-9, 8 rows
+    assert op.band(np.array([62 * 64])) == (56, 64)  # at the last row: shifted back

@@ -52,7 +52,8 @@ the same order-0 argument as ``FourierOperator.preconditioner``), masked to the 
 rows across t it is scaled by a0/(a0 + (s . t)/(|mu| p)), a0 the operator's diagonal (the Newton
 term is a diagonal D: (A + D)^-1 ~ (1 + D/a0)^-1 A^-1).  One matrix-vector product is one
 batched transform of the 1 + D fields (1 + D FFT pairs), one preconditioner application the
-same.
+same; on a surface both on the contact's band of rows (``PartialSlipOperator.transform``), the
+fields completed on every row once per solve.
 
 When no node would stick (|Q| = |mu| P: gross sliding) the iteration keeps the most stuck node
 of the previous stick set: the sum of q then forces q = |mu| p Q/|Q| there too, so the state is
@@ -197,6 +198,11 @@ class _Linear:
         self.wPc, self.wQc = self.wP * op.cell, self.wQ * op.cell
         self.Mi = op.preconditioner(op.cut(C))
         self.flat = op._plan[0].reshape(op.m, n)
+        # a surface's fields vanish outside the contact's rows: the transforms and the fills
+        # run on those (``PartialSlipOperator.transform``'s rows)
+        self.rows = op.band(C) if nd == 2 and C.size else None
+        self.live = self.flat if self.rows is None else \
+            op._plan[0][:, self.rows[0]:self.rows[1]]
         u_prev, d_prev = prev
         rhs_l = np.zeros(self.nr)
         if self.nr and not gross:
@@ -205,9 +211,9 @@ class _Linear:
                                 + [rhs_l, [self.wP * P], self.wQ * Q])
         self.counters = {"fft": 0, "krylov": 0}
 
-    def scatter(self, v):
+    def scatter(self, v, full=False):
         flat, nd, nS = self.flat, self.nd, self.S.size
-        flat.fill(0.0)
+        (flat if full else self.live).fill(0.0)
         pv = v[:self.i_s]
         flat[0, self.Cs] = pv
         for c in range(nd):
@@ -225,8 +231,8 @@ class _Linear:
         op, nd, nS, i_d = self.op, self.nd, self.S.size, self.i_d
         self.counters["fft"] += op.m
         pv = self.scatter(v)
-        qs = self.flat[1:].sum(axis=1)
-        out = op.transform(op.M).reshape(op.m, -1)
+        qs = self.live[1:].reshape(nd, -1).sum(axis=1)
+        out = op.transform(op.M, self.rows).reshape(op.m, -1)
         self.last = out
         res = np.empty_like(v)
         np.subtract(out[0, self.Cs], v[i_d], out=res[:self.i_s])
@@ -245,14 +251,14 @@ class _Linear:
     def psolve(self, r):
         op, flat, nd, nS = self.op, self.flat, self.nd, self.S.size
         self.counters["fft"] += op.m
-        flat.fill(0.0)
+        self.live.fill(0.0)
         flat[0, self.Cs] = r[:self.i_s]
         for c in range(nd):
             flat[1 + c, self.Ss] = r[self.i_s + c * nS:self.i_s + (c + 1) * nS]
         if self.nr:
             flat[1, self.L] = -self.tL[1] * r[self.i_l:self.i_d]
             flat[2, self.L] = self.tL[0] * r[self.i_l:self.i_d]
-        out = op.transform(self.Mi).reshape(op.m, -1)
+        out = op.transform(self.Mi, self.rows).reshape(op.m, -1)
         z = np.empty_like(r)
         z[:self.i_s] = out[0, self.Cs]
         for c in range(nd):
@@ -274,10 +280,12 @@ class _Linear:
         v, its, rel = gmres(self.matvec, self.psolve, self.b, v0, rtol=rt, maxiter=max_krylov)
         self.counters["krylov"] += its
         # (w, u) from GMRES's last matvec (always at the returned v; its output buffer is not
-        # touched after it), then (p, q) scattered again
+        # touched after it: on a surface completed outside the contact's rows), then (p, q)
+        # scattered again
+        self.op.full_output()
         out = self.last
         w, u = out[0].copy(), out[1:].copy()
-        self.scatter(v)
+        self.scatter(v, full=True)
         return (self.flat[0].copy(), self.flat[1:].copy(), w, u, float(v[self.i_d]),
                 v[self.i_d + 1:].copy(), rel)
 
