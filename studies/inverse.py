@@ -144,6 +144,7 @@ def _unit_times(repeats: int = 51):
     nodes, and of one FFT pair of 8192 points."""
     from spectral_contact.instruments.inverse_forward import LineForward
     from spectral_contact.instruments.inverse_prior import ContactPrior
+    from spectral_contact.numerics.blas_threads import single_blas_thread
     from spectral_contact.numerics.fft import get_rfft
     from spectral_contact.physics.film import Film
 
@@ -164,7 +165,9 @@ def _unit_times(repeats: int = 51):
             ts.append(time.process_time() - c0)
         return float(np.median(ts))
 
-    return med(lambda: ev.evaluate(th, grad=True)), med(lambda: [f.apply(a, sym) for _ in range(20)]) / 20
+    with single_blas_thread():  # as inside invert_line
+        unit = med(lambda: ev.evaluate(th, grad=True))
+    return unit, med(lambda: [f.apply(a, sym) for _ in range(20)]) / 20
 
 
 def summarise(rows, keys):
@@ -283,6 +286,10 @@ def main(argv=None) -> int:
         # evidence evaluations it made (a count the machine's load does not change), and the
         # CPU time of one evaluation of the contact prior's evidence with its gradient on 60
         # nodes (the unit of the work) and of an FFT pair of 8192 points, timed in the same run
+        from spectral_contact.numerics.blas_threads import blas_thread_counts
+
+        # the BLAS threads of this process outside the inversion (which holds one: issue 21)
+        blas = "/".join(map(str, blas_thread_counts())) or "not found"
         speed = []
         for view in ("base", "sensor"):
             for ns in (401, 10_000):
@@ -303,7 +310,8 @@ def main(argv=None) -> int:
                                   "evaluations_contact": counts["contact"],
                                   "evaluations_envelope": counts["envelope"],
                                   "evaluation_cpu_ms": unit * 1e3, "fft_pair_cpu_us": pair * 1e6,
-                                  "load_1min": os.getloadavg()[0], "cores": os.cpu_count()})
+                                  "load_1min": os.getloadavg()[0], "cores": os.cpu_count(),
+                                  "blas_threads_outside": blas})
                     print(f"  speed {view} {ns} {prior} hyper={hyper}: "
                           f"{speed[-1]['median_cpu_s']:.2f} s", file=sys.stderr, flush=True)
         table(speed, out / "inverse_speed.csv",
