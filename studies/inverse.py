@@ -28,7 +28,9 @@ of each component, one record per seed:
 4. speed: CPU seconds (``time.process_time``) of records of 401 and 10^4 samples, base and
    sensor views, the auto prior with and without the hyperparameters' propagation and the
    contact prior alone (median of warm runs; the load beside it), with the number of evidence
-   evaluations and, in the same run, the CPU time of one evaluation and of an FFT pair.
+   evaluations and, in the same run, the CPU time of one evaluation and of an FFT pair; the
+   warm-up (auto, not propagated) before each record's runs: the first row's is the
+   process's first inversion (it pays the inverse's lazy imports).
 
 Writes inverse_calibration.csv (one row per record), inverse_summary.csv (means over seeds),
 inverse_sweep.csv, inverse_routes.csv, inverse_speed.csv, inverse_example.csv (a record a new
@@ -295,7 +297,9 @@ def main(argv=None) -> int:
             for ns in (401, 10_000):
                 xs = np.linspace(-10e-3, 10e-3, ns)
                 zz, xz = record(truths["amontons"], view, 0.01, 0, xs)
+                c0 = time.process_time()  # the first of the run is the process's first inversion
                 invert_line(xs, zz, xz, view=view, hyper=False)
+                warm = time.process_time() - c0
                 for prior, hyper in (("auto", True), ("auto", False), ("contact", True)):
                     ts = []
                     for _ in range(1 if args.quick else 3):
@@ -311,7 +315,8 @@ def main(argv=None) -> int:
                                   "evaluations_envelope": counts["envelope"],
                                   "evaluation_cpu_ms": unit * 1e3, "fft_pair_cpu_us": pair * 1e6,
                                   "load_1min": os.getloadavg()[0], "cores": os.cpu_count(),
-                                  "blas_threads_outside": blas})
+                                  "blas_threads_outside": blas,
+                                  "warmup_cpu_s": warm})
                     print(f"  speed {view} {ns} {prior} hyper={hyper}: "
                           f"{speed[-1]['median_cpu_s']:.2f} s", file=sys.stderr, flush=True)
         table(speed, out / "inverse_speed.csv",
