@@ -54,3 +54,31 @@ def test_inverse_runs_under_one_thread_and_restores_on_error(monkeypatch):
     finally:
         for (_, s), n in zip(libs, before):
             s(n)
+
+
+def test_maps_inverse_runs_under_one_thread(monkeypatch):
+    _libs_or_skip()
+    from spectral_contact.errors import InputError
+    from spectral_contact.instruments import inverse_maps
+
+    libs = blas_threads._libraries()
+    before = blas_thread_counts()
+    libs[0][1](2)
+    seen = []
+    real = inverse_maps._check_maps
+
+    def spy(*a, **k):
+        seen.append(blas_thread_counts())
+        return real(*a, **k)
+
+    monkeypatch.setattr(inverse_maps, "_check_maps", spy)
+    try:
+        x = np.linspace(-0.01, 0.01, 3)  # too few points: refused inside the block
+        z = np.zeros((3, 3))
+        with pytest.raises(InputError):
+            inverse_maps.invert_maps(x, x, z, z, z)
+        assert seen == [[1] * len(libs)]
+        assert blas_thread_counts()[0] == 2
+    finally:
+        for (_, s), n in zip(libs, before):
+            s(n)
