@@ -590,3 +590,18 @@ def test_slow_path_centroid_second_order():
     assert abs(r.info["pressure_centroid"] - x2 - ref.info["pressure_centroid"]) > 3e-5 * a
     field = float(np.dot(r.pressure, r.x) / np.sum(r.pressure))
     assert field == pytest.approx(r.info["pressure_centroid"], abs=1e-3 * abs(x2))
+
+
+def test_cost_study_tolerances(tmp_path, capsys):
+    """studies.viscoelastic_cost --tol: comma-separated tolerances in (0, 0.1), one table each;
+    anything else one line naming --tol, exit 2."""
+    from studies.viscoelastic_cost import _tols
+    from studies.viscoelastic_cost import main as cost_main
+
+    assert _tols("1e-3,1e-4") == (1e-3, 1e-4)
+    for bad in ("0.5", "abc", "1e-3,", "0"):
+        with pytest.raises(SystemExit) as e:
+            cost_main(["--tol", bad, "--out", str(tmp_path)])
+        assert e.value.code == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "--tol" in err[0]
