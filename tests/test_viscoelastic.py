@@ -590,6 +590,11 @@ def test_slow_path_centroid_second_order():
     assert abs(r.info["pressure_centroid"] - x2 - ref.info["pressure_centroid"]) > 3e-5 * a
     field = float(np.dot(r.pressure, r.x) / np.sum(r.pressure))
     assert field == pytest.approx(r.info["pressure_centroid"], abs=1e-3 * abs(x2))
+    # the mirror: V -> -V moves the centroid and its second-order term to the other side
+    m = solve_fft(Scene(load=load_for(0.1), mu=0.0, speed=-1e-4, prony=SLS, **FILM), tol=1e-3)
+    assert m.info["slow_sliding"]["centroid_second_order_h"] == pytest.approx(-x2, rel=1e-9)
+    assert m.info["pressure_centroid"] == pytest.approx(-r.info["pressure_centroid"],
+                                                        abs=1e-3 * abs(x2))
 
 
 def test_cost_study_tolerances(tmp_path, capsys):

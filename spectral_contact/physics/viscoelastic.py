@@ -428,7 +428,8 @@ class ViscoelasticFilm(Film):
         (A_1^2 + A_2^2) m2.  The first-order pressure change at the leading edge adds +(pi/16)
         (A_1^2 + A_2^2) delta^2/2: taken from Hunter's closed form (r = 0.2-0.8: the sum is
         -(1 + r)/2 delta l_r / a, A^2 = 32 a; tests/test_hunter.py), m2 - delta^2/2 being the
-        (ik)^2 coefficient of R exp(-ik delta).  Checked on the film (studies.viscoelastic
+        (ik)^2 coefficient of R exp(-ik delta).  For V > 0; V < 0 the mirror (the sign flips:
+        the high-wavenumber integral is c_j l_j |l_j|).  Checked on the film (studies.viscoelastic
         --parts second): a_H/h 0.1, 1, 3 at V tau/h 1.6e-4 ... 1.6e-2, the first-order
         centroid's error 2e-6 ... 8e-4 of a left at <= 7e-7 of a with this term (and a
         two-term series: 8.1e-5 -> 6e-9)."""
@@ -436,7 +437,9 @@ class ViscoelasticFilm(Film):
             return 0.0
         delta = self.slow_shift
         c2 = self.slow_second_moment - 0.5 * delta * delta
-        return -(math.pi / 16.0) * edge_amplitudes_sq * c2 / (2.0 * load)
+        # odd in V (the mirror): c_j l_j |l_j| in the identity, l_j = V tau_r,j
+        return -math.copysign(1.0, self.speed) * (math.pi / 16.0) * edge_amplitudes_sq * c2 \
+            / (2.0 * load)
 
     def slow_remainder(self, a: float) -> float:
         """Bound of the second-order remainder of the slow-sliding theory on a contact of
