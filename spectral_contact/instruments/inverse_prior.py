@@ -527,15 +527,13 @@ def fit_contact(xh, film, symbols, zs, xs, support=None):
     lo = max(c - w0 - EDGE_SPAN_H, xh[0] - MARGIN_H)
     hi = min(c + w0 + EDGE_SPAN_H, xh[-1] + MARGIN_H)
     fwd = LineForward.build(xh, film, symbols, step=FINE_STEP_H, span=(lo, hi))
-    ev = ContactPrior(fwd, zs, xs, trend=FIRST_PASS_TREND)
-    for degree in (FIRST_PASS_TREND, TREND_DEGREE):
-        ev.trend_degree = degree
-        th, le, free = optimise_contact(ev, zs, xs, start=th)
-        for _ in range(2):  # leave a wrong side of a bimodal edge
-            t2, v2 = _scan_edges(ev, th, value=le)
-            if v2 <= le + 0.01:
-                break
-            th, le, free = optimise_contact(ev, zs, xs, start=t2)
+    ev = ContactPrior(fwd, zs, xs)
+    th, le, free = optimise_contact(ev, zs, xs, start=th)
+    for _ in range(2):  # leave a wrong side of a bimodal edge
+        t2, v2 = _scan_edges(ev, th, value=le)
+        if v2 <= le + 0.01:
+            break
+        th, le, free = optimise_contact(ev, zs, xs, start=t2)
     return fwd, ev, _modes(ev, zs, xs, th, le, free), free
 
 
