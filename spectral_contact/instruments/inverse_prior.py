@@ -5,15 +5,14 @@ uncertainty into the posterior (Laplace over the log-hyperparameters).
 Prior (nodes t_j, lengths in h).  A window of centre c and half-width w0 (hyperparameters),
 u = (t - c)/w0, z = 1 - u^2, carries
 
-    p = W (g_p + Phi a) + n_p,
+    p = W g_p + n_p,
     q = mu0 p + W g_r + I tau + n_q,
 
 with W = diag(w), w = sqrt(z+) the square-root profile of a contact's edges (a smooth indenter's
 pressure falls to zero as the square root of the distance to the edge, for the exact model as
 for Hertz), I = (1 on the window) (a shear strength tau0 makes q step at the edges), g_p, g_r
 independent zero-mean Matern-5/2 processes (amplitudes s_p, s_r, lengths l_p, l_r: smooth
-inside the contact), Phi a a polynomial trend of p's smooth factor (below), tau ~ N(0, s_t^2)
-one constant, and n_p, n_q an independent white nugget of
+inside the contact), tau ~ N(0, s_t^2) one constant, and n_p, n_q an independent white nugget of
 sd s_out on each node (whatever the shapes above do not hold, inside or outside the window).
 q is correlated with p through mu0 (Amontons: g_r = tau = 0); its departures are a smooth
 multiple of the edge profile (a local mu varying across the contact) and a constant that need
@@ -27,23 +26,6 @@ costs little evidence and carries its uncertainty in the posterior itself.  For 
 the varying-mu part's amplitude s_r is s_p (``TIE_MU_PART``; a local mu departing from mu0 by
 ~1 is allowed a priori): a free s_r went to zero on the sensor view of a varying mu, leaving p
 biased (2-sd coverage of p 0.64 -> 0.84 tied, L2 of q 12 % -> 5 %).
-The trend: Phi = (P_0(u), P_1(u), P_2(u)) (Legendre, ``TREND_DEGREE`` 2) in the window's
-coordinate, coefficients a ~ N(0, s_p^2) each (universal kriging: a Gaussian process plus a
-polynomial of unknown coefficients).  Why: on a window of half-width w0 a Matern process of
-length l >> w0 is a constant plus terms in u^k of prior variance ~ (w0/l)^(2k), so the long end
-of l_p's range (where the evidence is flat, at 1 % noise through the apparatus) is the
-parametric model p = constant x sqrt window.  A contact on a film is not that: the film's
-finite thickness bulges the pressure's smooth factor at the contact's own scale and shear
-tilts it (the B coupling), each by a fraction of order one of its mean; with the tilt and the
-bulge held out of the prior, the other parts took up their data and the pressure's bands missed
-it by 2-8 sd (studies/README, inverse: varying-mu sensor records).  The trend keeps the
-quadratic part at the pressure's own amplitude at every l_p, so that l_p governs only the
-detail beyond it.  The degree is the prior's, not the evidence's: on 12 calibration records
-(2 seeds of each row) the log-evidence integrated over l_p of degrees -1 (no trend), 0, 1, 2
-lay within 3.6 nats of one another, highest for degree 2 on 5, 0 on 5, 1 on 2 (-1 on none),
-and on the varying-mu sensor record whose bands failed most it prefers degree 0 by 3.6 nats
-(and no trend by 2.6): weighted by evidence the trend would be switched off exactly where the
-data cannot show the shape it holds, so the evidence cannot make this choice.
 ``z+`` is z rounded at the scale of a quarter node
 step (softplus), so that the evidence is a smooth function of c and w0.  With a known support
 (a, b) the window is (a, b) exactly (w = sqrt(max(z, 0)), I = 1) and c, w0 are not free.
@@ -96,8 +78,6 @@ discretisation (measured: L2 130 % on the solver's 8192-sample clean record at a
 1-2 % with the factor)."""
 TIE_MU_PART = True
 """The varying-mu part's prior sd is s_p (module docstring)."""
-TREND_DEGREE = 2
-"""Degree of the polynomial trend of p's smooth factor (module docstring; -1: none)."""
 _ROUND = 0.25
 """The window's edges are rounded over this fraction of a node step."""
 
@@ -116,9 +96,8 @@ class ContactPrior:
     posterior (see the module docstring).  ``fwd``: ``LineForward``; dz, dx: the data (scaled);
     ``known``: the window is the node span (a known support)."""
 
-    def __init__(self, fwd, dz, dx, known=False, trend=None):
+    def __init__(self, fwd, dz, dx, known=False):
         _statistics(self, fwd, dz, dx)
-        self.trend_degree = TREND_DEGREE if trend is None else int(trend)
         self.dt = float(self.t[1] - self.t[0])
         self.known = known
         self._cache = {}
@@ -126,18 +105,6 @@ class ContactPrior:
         self._zeros = np.zeros((self.m, self.m))
 
     # -- prior covariance and its derivatives -------------------------------------------------
-    def trend(self, th):
-        """(Phi, dPhi/dc, dPhi/dlog w0): the Legendre polynomials P_0 ... P_d (d =
-        ``trend_degree``) of the window's coordinate u = (t - c)/w0 on the nodes, m x (d + 1):
-        the basis of the trend of p's smooth factor (module docstring)."""
-        c, w0 = th[0], math.exp(th[1])
-        u = (self.t - c) / w0
-        V = np.polynomial.legendre.legvander(u, self.trend_degree)
-        dV = np.zeros_like(V)  # P_k' = P_{k-2}' + (2k - 1) P_{k-1}
-        for k in range(1, self.trend_degree + 1):
-            dV[:, k] = (2 * k - 1) * V[:, k - 1] + (dV[:, k - 2] if k >= 2 else 0.0)
-        return V, dV * (-1.0 / w0), dV * (-u)[:, None]
-
     def window(self, th):
         """(w, dw/dc, dw/dlog w0, I, dI/dc, dI/dlog w0) on the nodes."""
         t = self.t
@@ -183,10 +150,6 @@ class ContactPrior:
         s_r2 = sp2 if TIE_MU_PART else math.exp(2 * th[5])
         st2 = sp2  # the step's prior sd is the pressure's amplitude (theta[7] not used)
         Cp, dCp = self._corr(math.exp(th[3]))
-        Phi = dPhi_c = dPhi_l = None
-        if self.trend_degree >= 0:
-            Phi, dPhi_c, dPhi_l = self.trend(th)
-            Cp = Cp + Phi @ Phi.T  # a new array: the cached correlation is not changed
         Cr, dCr = self._corr(math.exp(th[6]))
         Ct, dCt = self._ones, self._zeros  # the step part is one constant (l_t not used)
         eye = np.eye(m)
@@ -197,7 +160,7 @@ class ContactPrior:
         Kr = s_r2 * Ar + st2 * At + so2 * eye
         return Kp, Kr, dict(w=w, dwc=dwc, dwl=dwl, ind=ind, dic=dic, dil=dil, sp2=sp2, sr2=s_r2,
                             st2=st2, so2=so2, Cp=Cp, dCp=dCp, Cr=Cr, dCr=dCr, Ct=Ct, dCt=dCt,
-                            Ap=Ap, Ar=Ar, At=At, Phi=Phi, dPhi_c=dPhi_c, dPhi_l=dPhi_l)
+                            Ap=Ap, Ar=Ar, At=At)
 
     # -- evidence -----------------------------------------------------------------------------
     def evaluate(self, th, grad=False, full=False):
@@ -258,12 +221,6 @@ class ContactPrior:
                 vt = pc["st2"] * ((Wqq * pc["Ct"]) @ ind)
                 g[0] = float(pc["dwc"] @ vp + pc["dic"] @ vt)
                 g[1] = float(pc["dwl"] @ vp + pc["dil"] @ vt)
-                # the trend's basis moves with the window: 1/2 tr(Wp sp2 W dT W), T = Phi Phi^T,
-                # = sp2 sum(A * (Wp @ dA)) with A = W Phi
-                if pc["Phi"] is not None:
-                    WA = Wp @ (w[:, None] * pc["Phi"])
-                    g[0] += pc["sp2"] * float(np.sum(WA * (w[:, None] * pc["dPhi_c"])))
-                    g[1] += pc["sp2"] * float(np.sum(WA * (w[:, None] * pc["dPhi_l"])))
             _noise_gradient(g, (10, 11), self, nz, nx, mean, S)
             out.append(g)
         if full:
@@ -498,13 +455,6 @@ EDGE_SPAN_H = 0.75
 the tractions are zero beyond (the contact prior's own statement, bar its nugget)."""
 
 
-FIRST_PASS_TREND = -1
-"""The first pass's prior has no trend (``TREND_DEGREE`` -1): it only places the window, and a
-trend that moves with the window lets a coarse local search trade an edge's position against
-the trend's shape (a varying-mu sensor record stopped with its left edge 1 mm outside the
-contact, 3.8 nats below the maximum found from the right window)."""
-
-
 def fit_contact(xh, film, symbols, zs, xs, support=None):
     """Two passes: coarse nodes over the record +- MARGIN_H (the window's search: a scan of
     windows, one local search from the best, an edge scan), then fine nodes on the window +-
@@ -520,7 +470,7 @@ def fit_contact(xh, film, symbols, zs, xs, support=None):
         th, le, free = optimise_contact(ev, zs, xs)
         return fwd, ev, _modes(ev, zs, xs, th, le, free), free
     fwd = LineForward.build(xh, film, symbols, step=COARSE_STEP_H)
-    ev = ContactPrior(fwd, zs, xs, trend=FIRST_PASS_TREND)
+    ev = ContactPrior(fwd, zs, xs)
     th, le, free = optimise_contact(ev, zs, xs)
     th, le = _scan_edges(ev, th, reach=1.5, step=0.25, value=le)
     c, w0 = th[0], math.exp(th[1])
