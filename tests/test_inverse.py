@@ -155,9 +155,9 @@ def test_varying_mu_sensor_bands_cover():
     q = mu(x) p, through the film's base transfer) seen through the paper's apparatus, 1 %
     noise, 401 samples, noise seeds 0-5: the 2-sd band of p covers the truth at >= 90 % of the
     central 70 % of the contact and >= 80 % of the whole contact on average over the seeds, and
-    at >= 70 % of the contact on each (issue 21's coverage).  Before the pressure factor's trend
-    (``inverse_prior.TREND_DEGREE``) the same six records gave 0.82 central, 0.81 contact, two
-    records below 0.5; with it 1.00 on each."""
+    at >= 70 % of the contact on each (issue 21's coverage).  Before l_p's cap
+    (``inverse_prior.LP_MAX_WIDTH``) the same six records gave 0.82 central, 0.81 contact, two
+    records below 0.5."""
     r = solve(load=200.0, mu=0.5)
     x, p = r.x_m, r.pressure_Pa
     (a, b), = r.contact_intervals_m
