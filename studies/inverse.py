@@ -28,7 +28,9 @@ of each component, one record per seed:
 4. speed: CPU seconds (``time.process_time``) of records of 401 and 10^4 samples, base and
    sensor views, the auto prior with and without the hyperparameters' propagation and the
    contact prior alone (median of warm runs; the load beside it), with the number of evidence
-   evaluations and, in the same run, the CPU time of one evaluation and of an FFT pair.
+   evaluations and, in the same run, the CPU time of one evaluation and of an FFT pair; the
+   warm-up (auto, not propagated) before each record's runs: the first row's is the
+   process's first inversion (it pays the inverse's lazy imports).
 
 Writes inverse_calibration.csv (one row per record), inverse_summary.csv (means over seeds),
 inverse_sweep.csv, inverse_routes.csv, inverse_speed.csv, inverse_example.csv (a record a new
@@ -144,6 +146,7 @@ def _unit_times(repeats: int = 51):
     nodes, and of one FFT pair of 8192 points."""
     from spectral_contact.instruments.inverse_forward import LineForward
     from spectral_contact.instruments.inverse_prior import ContactPrior
+    from spectral_contact.numerics.blas_threads import single_blas_thread
     from spectral_contact.numerics.fft import get_rfft
     from spectral_contact.physics.film import Film
 
@@ -164,7 +167,9 @@ def _unit_times(repeats: int = 51):
             ts.append(time.process_time() - c0)
         return float(np.median(ts))
 
-    return med(lambda: ev.evaluate(th, grad=True)), med(lambda: [f.apply(a, sym) for _ in range(20)]) / 20
+    with single_blas_thread():  # as inside invert_line
+        unit = med(lambda: ev.evaluate(th, grad=True))
+    return unit, med(lambda: [f.apply(a, sym) for _ in range(20)]) / 20
 
 
 def summarise(rows, keys):
@@ -283,12 +288,18 @@ def main(argv=None) -> int:
         # evidence evaluations it made (a count the machine's load does not change), and the
         # CPU time of one evaluation of the contact prior's evidence with its gradient on 60
         # nodes (the unit of the work) and of an FFT pair of 8192 points, timed in the same run
+        from spectral_contact.numerics.blas_threads import blas_thread_counts
+
+        # the BLAS threads of this process outside the inversion (which holds one: issue 21)
+        blas = "/".join(map(str, blas_thread_counts())) or "not found"
         speed = []
         for view in ("base", "sensor"):
             for ns in (401, 10_000):
                 xs = np.linspace(-10e-3, 10e-3, ns)
                 zz, xz = record(truths["amontons"], view, 0.01, 0, xs)
+                c0 = time.process_time()  # the first of the run is the process's first inversion
                 invert_line(xs, zz, xz, view=view, hyper=False)
+                warm = time.process_time() - c0
                 for prior, hyper in (("auto", True), ("auto", False), ("contact", True)):
                     ts = []
                     for _ in range(1 if args.quick else 3):
@@ -303,7 +314,9 @@ def main(argv=None) -> int:
                                   "evaluations_contact": counts["contact"],
                                   "evaluations_envelope": counts["envelope"],
                                   "evaluation_cpu_ms": unit * 1e3, "fft_pair_cpu_us": pair * 1e6,
-                                  "load_1min": os.getloadavg()[0], "cores": os.cpu_count()})
+                                  "load_1min": os.getloadavg()[0], "cores": os.cpu_count(),
+                                  "blas_threads_outside": blas,
+                                  "warmup_cpu_s": warm})
                     print(f"  speed {view} {ns} {prior} hyper={hyper}: "
                           f"{speed[-1]['median_cpu_s']:.2f} s", file=sys.stderr, flush=True)
         table(speed, out / "inverse_speed.csv",

@@ -1,6 +1,7 @@
 """Inverse, surfaces: a sliding sphere's base maps back to its tractions (issue 21, study part 3).
 
     python -m studies.inverse_maps [--quick] [--out DIR] [--seeds N] [--prior auto|contact|smooth]
+                                   [--speed]
 
 Truths: the package's own sliding-sphere solves on the paper's film (h = 2 mm, E = 2.2 MPa,
 R = 130 mm, F = 1 N, sliding toward +x), on the solver's periodic grid of 160 x 160 points
@@ -22,6 +23,14 @@ over the contact (relative to the truth's norm) and of R(truth), the resolution 
 the prior chosen by the evidence (contact or smooth) and the law fitted to the local pairs
 (z-scores of mu, tau0, alpha against the truth, Amontons' p-value, AIC margins); the CPU time of the inversion
 (time.process_time) and the machine's load.
+
+``--speed`` (instead of the above): the issue's speed demand (a 160^2 map in under 10 s): the
+amontons truth, seeds 0-2, base and sensor views, ``invert_maps`` with the default prior, each
+record inverted twice in this process (the first call also pays the imports); per call the CPU
+seconds (time.process_time), the load, and counts the load does not change: evaluations of the
+contact prior's evidence (``ContactMapPrior._core``) and of the products U^T Gc U they needed,
+evaluations of the smooth prior's evidence, and the 2D FFTs (numpy's rfft2/irfft2, counted in
+planes of 160^2).  Writes inverse_maps_speed.csv.
 
 Writes inverse_maps_records.csv (one row per record), inverse_maps_summary.csv (means over
 seeds), inverse_maps.png (one record's ``MapInversion.plot()``) and inverse_maps_example.npz
@@ -147,14 +156,90 @@ def summarise(rows):
     return out
 
 
+class _counts:
+    """Counts, inside a ``with`` block, the maps inverse's evidence evaluations (contact prior:
+    ``_core`` calls and the U^T Gc U products among them; smooth prior: ``evaluate``) and the 2D
+    FFT planes numpy transforms (rfft2/irfft2 over two axes of a batch)."""
+
+    def __enter__(self):
+        from spectral_contact.instruments import inverse_maps_contact as ic
+        from spectral_contact.instruments import inverse_maps_stationary as st
+
+        self.c = {"contact": 0, "contact_products": 0, "contact_grams": 0, "smooth": 0,
+                  "fft_planes": 0}
+        self.saved = []
+
+        def patch(obj, name, key, planes=False):
+            orig = getattr(obj, name)
+
+            def f(*a, **k):
+                if planes:
+                    x = np.asarray(a[0])
+                    ax = k.get("axes", (-2, -1))
+                    self.c[key] += x.size // (x.shape[ax[0]] * x.shape[ax[1]])
+                else:
+                    self.c[key] += 1
+                return orig(*a, **k)
+
+            self.saved.append((obj, name, orig))
+            setattr(obj, name, f)
+
+        patch(ic.ContactMapPrior, "_core", "contact")
+        patch(ic.ContactMapPrior, "U", "contact_products")  # called once per U^T Gc U
+        patch(ic.ContactMapPrior, "_gram", "contact_grams")
+        patch(st._Model, "evaluate", "smooth")
+        patch(np.fft, "rfft2", "fft_planes", planes=True)
+        patch(np.fft, "irfft2", "fft_planes", planes=True)
+        return self.c
+
+    def __exit__(self, *exc):
+        for obj, name, orig in reversed(self.saved):
+            setattr(obj, name, orig)
+        return False
+
+
+def speed(out) -> int:
+    """The speed part (module docstring, ``--speed``)."""
+    tr = truth("amontons")
+    x, y = tr[1]["x_m"], tr[1]["y_m"]
+    rows = []
+    for view in ("base", "sensor"):
+        for seed in range(3):
+            d = record(tr, view, 0.01, seed)
+            for call in (1, 2):
+                with _counts() as c:
+                    c0 = time.process_time()
+                    inv = invert_maps(x, y, *d, thickness=0.002, view=view)
+                    cpu = time.process_time() - c0
+                rows.append({"view": view, "seed": seed, "call": call, "cpu_s": cpu,
+                             "load_1min": os.getloadavg()[0],
+                             "prior": inv.summary()["regularisation"]["prior_choice"]["chosen"],
+                             "evaluations_contact": c["contact"],
+                             "products_UtGcU": c["contact_products"],
+                             "grams": c["contact_grams"], "evaluations_smooth": c["smooth"],
+                             "fft_planes": c["fft_planes"]})
+                print(f"  speed {view} seed {seed} call {call}: cpu {cpu:.2f} s", file=sys.stderr,
+                      flush=True)
+    table(rows, out / "inverse_maps_speed.csv",
+          f"inverse maps, speed: CPU seconds of invert_maps (default prior) on {GRID}^2 maps "
+          f"(amontons, 1 % noise), each record twice in one process (call 1 of the first "
+          f"record also pays the imports); counts of evidence evaluations, U^T Gc U products, "
+          f"Gram matrices and 2D FFT planes")
+    return 0
+
+
 def main(argv=None) -> int:
     def extra(p):
         p.add_argument("--seeds", type=int, default=None,
                        help="noise seeds per case (10; --quick 2)")
         p.add_argument("--prior", choices=("auto", "contact", "smooth"), default="auto",
                        help="the inversion's prior (auto: the higher evidence)")
+        p.add_argument("--speed", action="store_true",
+                       help="the speed part only (160^2 maps, seeds 0-2, base and sensor)")
 
     args, out = parse(argv, __doc__.splitlines()[0], "out/inverse_maps", extra=extra)
+    if args.speed:
+        return speed(out)
     seeds = args.seeds or (2 if args.quick else 10)
     cases = (("amontons", "base"), ("amontons", "sensor"), ("strength", "base"))
     if args.quick:

@@ -24,6 +24,13 @@ claim      the paper's "purely elastic" film: a standard linear solid whose peak
            stresses (max |difference| / max |elastic|) against V tau / h, the first V tau / h
            where one exceeds 1 %, and the speed that is for loss peaks at 1 Hz ... 1 kHz,
            against the paper's 0.2 - 2 mm/s.
+images     the periodic images of the full-path line solves (the fixed grid on its period
+           and on twice it: same cells) against the estimate's image term, which is the
+           elastic one times ViscoelasticFilm.image_factor where every tail is short or
+           summed and the contact frictionless (not measured there; else measured):
+           a_H/h = 0.1, 1, 3 (a_H/h = 1 also mirrored, V < 0; a two-term series; tol 1e-4;
+           a film 11 times stiffer when glassy, E_1 = 10 E_inf), the paper's scene (mu 2:
+           measured; also mirrored, two terms, tol 1e-4, stiffer); 15 speeds 1e-6 ... 10 m/s.
 figure     viscoelastic.png: mu_def and a against V; the claim's changes; the base stresses
            and their MEMS view at one speed.
 """
@@ -195,6 +202,73 @@ def part_estimate(quick: bool, out, t0) -> list[dict]:
     return rows
 
 
+TWO_TERMS = ((E_INF, 1e-3), (E_INF, 0.1))  # a short and a long tail together (tau_r 5.2 ms, 0.39 s)
+STIFF = ((10.0 * E_INF, TAU),)  # E_0 = 11 E_inf: tau_r = 0.11 s
+
+
+def _line_change(r, ref) -> float:
+    """Largest relative change of a, x_c, d, p_max and the pressure centroid from ``ref`` to
+    ``r`` (lengths over ref's half-width, d and p_max over themselves): the estimate's."""
+    a = ref.half_width
+    return max(abs(r.half_width - a) / a, abs(r.center - ref.center) / a,
+               abs(r.indentation - ref.indentation) / ref.indentation,
+               abs(r.max_pressure - ref.max_pressure) / ref.max_pressure,
+               abs(r.info["pressure_centroid"] - ref.info["pressure_centroid"]) / a)
+
+
+def part_images(quick: bool, out, t0) -> list[dict]:
+    """The periodic images of full-path line solves against the bound the estimate now uses
+    where the film's far field is bounded (``ViscoelasticFilm.image_factor``: every tail short
+    or summed) and the contact frictionless; else measured on twice the period, as before
+    (column ``images``): period_difference is the fixed grid of the solve (N on L) against 2N
+    on 2L (same cells, same path: the images alone)."""
+    speeds = (1e-3, 1e-2, 1.0) if quick else tuple(float(v) for v in np.logspace(-6, 1, 15))
+    scenes = [("paper", 200.0, 2.0, 1.0, SLS, 1e-3), ("paper mirrored", 200.0, -2.0, -1.0, SLS, 1e-3),
+              ("paper two terms", 200.0, 2.0, 1.0, TWO_TERMS, 1e-3),
+              ("paper tol 1e-4", 200.0, 2.0, 1.0, SLS, 1e-4)]
+    scenes += [(f"aH/h={s_:g}", load_for(s_), 0.0, 1.0, SLS, 1e-3) for s_ in
+               ((0.1,) if quick else (0.1, 1.0, 3.0))]
+    if not quick:  # frictionless (the bound's range): mirrored, two terms, tol 1e-4; glassy
+        # 11 times stiffer (image factors up to ~11; measured past 12.5), also with friction
+        a1 = load_for(1.0)
+        scenes += [("aH/h=1 mirrored", a1, 0.0, -1.0, SLS, 1e-3),
+                   ("aH/h=1 two terms", a1, 0.0, 1.0, TWO_TERMS, 1e-3),
+                   ("aH/h=1 tol 1e-4", a1, 0.0, 1.0, SLS, 1e-4),
+                   ("aH/h=1 E_1=10E_inf", a1, 0.0, 1.0, STIFF, 1e-3),
+                   ("paper E_1=10E_inf", 200.0, 2.0, 1.0, STIFF, 1e-3)]
+    if quick:
+        scenes = scenes[:1] + scenes[-1:]
+    rows = []
+    n = len(speeds) * len(scenes)
+    for name, load, mu, sign, prony, tol in scenes:
+        for V in speeds:
+            s = Scene(load=load, mu=mu, speed=sign * V, prony=prony, **FILM)
+            r = solve_fft(s, tol=tol)
+            row = {"scene": name, "tol": tol, "mu": mu, "speed_m_per_s": sign * V,
+                   "path": "slow" if "slow_sliding" in r.info else "full",
+                   "image_factor": s.core_film().image_factor(),
+                   "images": "measured" if r.info["domain_difference"] else "bounded",
+                   "grid_points": r.grid_points,
+                   "period_h": r.domain_length, "image_error": r.info["image_error"],
+                   "domain_difference": r.info["domain_difference"],
+                   "error_estimate": r.error_estimate, "period_difference": float("nan"),
+                   "bounded": None}
+            if row["path"] == "full":
+                N, L = r.grid_points, r.domain_length
+                fixed = solve_fft(s, tol=tol, grid_points=N, domain_length=L)
+                far = solve_fft(s, tol=tol, grid_points=2 * N, domain_length=2 * L)
+                diff = _line_change(fixed, far)
+                row["period_difference"] = diff
+                row["bounded"] = bool(diff <= r.info["image_error"])
+            rows.append(row)
+            progress(len(rows), n, f"images {name} V={V:.1e}", t0)
+    table(rows, out / "viscoelastic_images.csv",
+          "Periodic images of the full-path viscoelastic line solves: the fixed grid N on L "
+          "against 2N on 2L (period_difference) and the estimate's image term (image_error: "
+          "the elastic model x image_factor where that is known, else max(model, measured))")
+    return rows
+
+
 def part_reference(quick: bool, out, t0) -> list[dict]:
     """Hunter's closed form (reference.hunter, derived) against the film solver and the x-space
     collocation (a_H/h = 0.01), and the film's departure from the half-space as the tail l_r
@@ -328,7 +402,7 @@ def figure(speed_rows, claim_rows, out):
     print(f"(written {out / 'viscoelastic.png'})")
 
 
-PARTS = ("speed", "sphere", "reference", "claim", "figure", "estimate")
+PARTS = ("speed", "sphere", "reference", "claim", "figure", "estimate", "images")
 
 
 def main(argv=None) -> int:
@@ -355,6 +429,8 @@ def main(argv=None) -> int:
                pd.read_csv(out / "viscoelastic_claim.csv").to_dict("records"), out)
     if "estimate" in parts:
         part_estimate(args.quick, out, t0)
+    if "images" in parts:
+        part_images(args.quick, out, t0)
     return 0
 
 

@@ -267,6 +267,7 @@ CASES = [
     ([S, "--speed", "0.05", "--prony", "2.2e6,0.01,1"], {2}, "visco odd prony"),
     ([S, "--speed", "0.05", "--prony", "nan,0.01"], {2}, "visco NaN prony"),
     ([S, "--prony", "2.2e6,0.01"], {2}, "visco prony without speed"),
+    ([S, "--speed", "0.05"], {2}, "visco speed without prony"),
     ([S, "--speed", "-0.05", "--prony", "2.2e6,0.01"], {2}, "visco speed against mu"),
     ([S, "--speed", "0.05", "--prony", "2.2e6,0.01", "--method", "abel"], {2}, "visco abel"),
     ([S, "--speed", "0.05", "--prony", "2.2e6,0.01", "--poisson", "0.3"], {2}, "visco nu < 1/2"),

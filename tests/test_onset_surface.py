@@ -207,3 +207,63 @@ def test_sphere_maps_sensor_profiles(tmp_path, capsys):
     assert not bad.exists()
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--maps" in err
+
+
+def test_sphere_loose_criteria_keep_the_answers():
+    """The surfaces' acceptance at the default tol (accept 1e-4: inner tolerance 1e-2 of it,
+    slip directions converged and checked weighed by p / p_max, ``numerics.partial_slip``)
+    against a tight one (accept 1e-8) on the 1 N sphere (64^2, 4 frictional loading and 4
+    tangential steps): the same stick and contact sets node for node, the measures within
+    1e-5; and the reported slip-direction residual is the weighted misdirection recomputed
+    here from the state, below accept."""
+    from spectral_contact.physics.film import Film
+    from spectral_contact.physics.scene import Scene3D
+    from spectral_contact.solvers.onset3d import _Surface
+    from spectral_contact.solvers.onset_core import LoadingRun
+
+    sc = Scene3D(indenter="sphere", force=1.0, mu=1.0)
+    g = Grid.centered((64, 64), (10.0, 10.0))
+    loose, tight = (LoadingRun(_Surface(sc.indenter_object()), g, Film(poisson=sc.poisson), sc.P,
+                               sc.mu, [0.25, 0.5, 0.75, 1.0], "frictional", 4, accept)
+                    for accept in (1e-4, 1e-8))
+    dmax = max(abs(m["delta"]) for m in tight.measures)
+    prev = loose.loaded
+    for k, (a, b) in enumerate(zip(loose.states, tight.states)):
+        assert np.array_equal(a.stick, b.stick) and np.array_equal(a.contact, b.contact)
+        ma, mb = loose.measures[k + 1], tight.measures[k + 1]
+        for key in ("d", "radius", "pmax"):
+            assert abs(ma[key] - mb[key]) <= 1e-5 * abs(mb[key]), (k, key)
+        assert abs(ma["delta"] - mb["delta"]) <= 1e-5 * dmax
+        if k < 3:  # below gross sliding: |s| - s . q/|q| on the slip nodes, weighed by p
+            ds = (a.delta - prev.delta)[:, None] - (a.u - prev.u)
+            dsn, qn = np.hypot(*ds), np.hypot(*a.q)
+            slip = a.contact & ~a.stick
+            off = (dsn - (ds * a.q).sum(axis=0) / np.where(qn > 0, qn, 1.0)) * a.p / a.p.max()
+            scale = max(dsn[a.contact].max(), float(np.hypot(*(a.delta - prev.delta))))
+            assert off[slip].max() / scale == pytest.approx(a.residuals["slip_direction"],
+                                                            rel=1e-6, abs=1e-15)
+            assert a.residuals["slip_direction"] <= 1e-4
+        prev = a
+
+
+def test_row_pruned_transform_equals_the_full_one():
+    """``PartialSlipOperator.transform`` with ``rows`` (the y-passes on a band of rows only)
+    gives the full transform's result on the band, and ``full_output`` on every row: for two
+    bands in turn (the first band's rows must be cleared for the second), both symbols."""
+    g = Grid.centered((64, 64), (10.0, 10.0))
+    op = PartialSlipOperator2D(g)
+    r = op._plan[0]
+    rng = np.random.default_rng(1)
+    for rows, M in (((8, 24), op.M), ((30, 46), op.preconditioner(1.0)), ((30, 46), op.M)):
+        x = np.zeros_like(r)
+        x[:, rows[0]:rows[1]] = rng.standard_normal((3, rows[1] - rows[0], 64))
+        r[:] = x
+        ref = op.transform(M).copy()
+        r[:] = np.nan  # rows outside the band are not read
+        r[:, rows[0]:rows[1]] = x[:, rows[0]:rows[1]]
+        band = op.transform(M, rows)[:, rows[0]:rows[1]]
+        scale = np.abs(ref).max()
+        assert np.abs(band - ref[:, rows[0]:rows[1]]).max() <= 1e-12 * scale
+        assert np.abs(op.full_output() - ref).max() <= 1e-12 * scale
+    assert op.band(np.array([5 * 64 + 3, 9 * 64 + 60])) == (5, 13)  # rows 5-9, 8 rows
+    assert op.band(np.array([62 * 64])) == (56, 64)  # at the last row: shifted back

@@ -11,6 +11,7 @@ from spectral_contact import solve
 from spectral_contact.cli.main import main
 from spectral_contact.errors import InputError
 from spectral_contact.numerics.fft import get_rfft
+from spectral_contact.physics.film import Film
 from spectral_contact.physics.scene import Scene
 from spectral_contact.physics.viscoelastic import ViscoelasticFilm, film_of, parse_prony
 
@@ -407,3 +408,118 @@ def test_edge_rule_two_cells_on_the_third_level_bounded():
               abs(r.max_pressure - ref.max_pressure) / ref.max_pressure,
               abs(r.info["pressure_centroid"] - ref.info["pressure_centroid"]) / a)
     assert err <= r.error_estimate <= TOL
+
+
+# --- reliability (issue 23's fourth session) ---------------------------------------------------
+def test_speed_without_prony_is_refused(capsys):
+    """An elastic film's steady sliding does not depend on V: --speed V != 0 without --prony was
+    silently the elastic solve; now one line, exit 2 (Python: InputError); --speed 0 alone stays
+    the elastic solve (test_cli)."""
+    for args in (["--speed", "0.1"], ["--speed", "-0.1", "--mu", "-1"],
+                 ["--indenter", "sphere", "--speed", "0.1"]):
+        code, out, err = _cli(capsys, *args, "--tol", "1e-2")
+        assert code == 2, args
+        assert out == "" and len(err.strip().splitlines()) == 1, err
+        assert "--speed" in err and "needs --prony" in err
+    with pytest.raises(InputError, match="needs --prony"):
+        Scene(speed=0.1)
+    assert Scene(speed=0.0).core_film() == Scene().core_film()
+
+
+@pytest.mark.parametrize("prony,what", [("0,0.01", "E_i > 0"), ("-2.2e6,0.01", "E_i > 0"),
+                                        ("2.2e6,0", "tau_i > 0"), ("2.2e6,-1", "tau_i > 0"),
+                                        ("2.2e19,0.01", "E_i / E_inf"),
+                                        ("2.2e-7,0.01", "E_i / E_inf"),
+                                        ("2.2e6,0.01,0,1", "E_i > 0")])
+def test_prony_moduli_out_of_range_refused(capsys, prony, what):
+    """Zero or negative moduli and times, and a ratio E_i/E_inf beyond [1e-12, 1e12] (10^13,
+    10^-13 here), in any term: one line naming --prony, exit 2."""
+    code, out, err = _cli(capsys, "--speed", "0.05", "--prony", prony, "--tol", "1e-2")
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1, err
+    assert "--prony" in err and what in err
+
+
+def test_image_factor():
+    """``ViscoelasticFilm.image_factor``: 1 for the elastic film; the short and the summed
+    tails' bound max |R(+-i kappa)| / r (SLS r = 1/2); None between them (measured)."""
+    kappa = 0.7390851332151607
+    assert Film().image_factor() == 1.0
+
+    def film(kl):  # one SLS term, E_1 = E_inf: tau_r = 2 tau, l_r = V tau_r
+        return ViscoelasticFilm(thickness=1.0, relaxed_young=1.0, prony=((1.0, 1.0),),
+                                speed=kl / (2.0 * kappa))
+    for kl in (1e-3, 0.3, 0.499):
+        assert film(kl).image_factor() == pytest.approx((0.5 + 0.5 / (1 - kl)) / 0.5, rel=1e-9)
+    for kl in (0.51, 1.0, 1.99):
+        assert film(kl).image_factor() is None
+    for kl in (2.01, 10.0):
+        assert film(kl).image_factor() == pytest.approx((0.5 + 0.5 / (1 + kl)) / 0.5, rel=1e-9)
+    assert film(-0.3).image_factor() == film(0.3).image_factor()
+
+
+def test_line_images_bounded_without_the_measurement():
+    """Where every tail is short or summed and the contact frictionless, the line solve does
+    not measure its images on twice the period (domain_difference 0: the elastic cost) and the
+    estimate's image term bounds them: the solve's own fixed grid on its period against twice
+    it (same cells).  Measured as before: between (0.1 m/s, kappa l_r = 0.74), past tol/4 on
+    the margin (a film 31 times stiffer when glassy), and with friction, where the indentation
+    can fall far below the elastic film's (E_1 = 10 E_inf, 0.32 m/s, mu 2: the images' change
+    of d was 1.6 times the bound)."""
+    from spectral_contact.solvers.fft import solve_fft
+    from studies.viscoelastic import FILM, _line_change, load_for
+
+    for V, measured in ((0.316, False), (0.01, False), (0.1, True)):
+        s = Scene(load=load_for(1.0), mu=0.0, speed=V, prony=SLS, **FILM)
+        r = solve_fft(s, tol=TOL)
+        assert (r.info["domain_difference"] > 0.0) == measured
+        N, L = r.grid_points, r.domain_length
+        diff = _line_change(solve_fft(s, tol=TOL, grid_points=N, domain_length=L),
+                            solve_fft(s, tol=TOL, grid_points=2 * N, domain_length=2 * L))
+        assert diff <= r.info["image_error"], V
+    stiff = Scene(load=load_for(1.0), mu=0.0, speed=0.01, prony=((30 * E_INF, 1e-4),), **FILM)
+    assert stiff.core_film().image_factor() > 30.0
+    assert solve_fft(stiff, tol=TOL).info["domain_difference"] > 0.0
+    rubbing = Scene(load=200.0, mu=2.0, speed=0.316, prony=((10 * E_INF, 0.01),), **FILM)
+    assert rubbing.core_film().image_factor() < 2.0
+    assert solve_fft(rubbing, tol=TOL).info["domain_difference"] > 0.0
+
+
+def test_even_parts_series_meets_closed_form():
+    """The in-plane tail symbols' even parts (F2/(2K) - 1)/K^2, (tanh K/K - 1)/K^2: the series
+    used at |K^2| < 2e-3 meets the closed forms at the switch (both signs of K^2), and 1/D
+    is 1/2 at K = 0."""
+    from spectral_contact.physics.viscoelastic import _even_parts
+
+    for K2 in (2e-3, -2e-3):
+        inside = np.array(_even_parts(np.array([K2 * (1 - 1e-9)])))
+        outside = np.array(_even_parts(np.array([K2 * (1 + 1e-9)])))
+        assert np.allclose(inside, outside, rtol=1e-8, atol=0)
+    assert _even_parts(np.array([0.0]))[2][0] == pytest.approx(0.5)
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_sphere_surface_displacements_tail_images_summed(sign, monkeypatch):
+    """3D, V tau_r = 30 h (twice the period): the surface u_x, u_y (and u_z) of the fixed grid
+    on twice the period and on four times it (same cells) agree to 1e-5 of their largest
+    values (the in-plane tails' images summed like the sinking's:
+    ``ViscoelasticFilm.tail_displacement_poles``); without that sum u_x, u_y were off by
+    4 % (and by 14 % on the period itself), u_z was not (its tail already summed)."""
+    h = 0.002
+    kw = dict(indenter="sphere", force=1.0, mu=0.5 * sign, speed=3.0 * sign, prony=SLS,
+              tol=1e-2, thickness=h)
+
+    def change():
+        res = [solve(**kw, grid_points=(128 * f, 64), domain_length=(0.03 * f, 0.03))
+               for f in (2, 4)]
+        out = {}
+        for name in ("surface_ux", "surface_uy", "surface_uz"):
+            f0, f1 = (getattr(q, name) for q in res)
+            ix = np.searchsorted(res[1].x, res[0].x - 1e-12)
+            out[name] = np.abs(f0 - f1[ix]).max() / np.abs(f1).max()
+        return out
+
+    ch = change()
+    assert max(ch.values()) < 1e-5, ch
+    monkeypatch.setattr(ViscoelasticFilm, "tail_displacement_poles", lambda self, mu=0.0: [])
+    ch = change()
+    assert ch["surface_ux"] > 1e-2 and ch["surface_uy"] > 1e-2 and ch["surface_uz"] < 1e-5, ch

@@ -79,6 +79,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..errors import InputError, named
+from ..numerics.blas_threads import single_blas_thread
 from ..physics.film import Film
 from .inverse_evidence import (  # noqa: F401  (re-exported)
     ENVELOPE_EDGE_MIN_H,
@@ -266,6 +267,7 @@ def _check_span(x, h):
                          f"one (is x in metres, the thickness right?)")
 
 
+@single_blas_thread()
 def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float = 0.5,
                 view: str = "base", apparatus=None, positive: bool = False, support=None,
                 draws: int = 400, seed: int = 0, prior: str = "auto",

@@ -78,6 +78,7 @@ import math
 import numpy as np
 
 from ..errors import InputError
+from ..numerics.blas_threads import single_blas_thread
 from ..numerics.grid import Grid
 from ..physics.film import Film
 from .inverse_maps_forward import base_maps_from_tractions
@@ -262,6 +263,7 @@ def _check_spans(x, y, h):
                              f"right?)")
 
 
+@single_blas_thread()
 def invert_maps(x_m, y_m, zz_Pa, xz_Pa, yz_Pa, *, thickness: float = 0.002,
                 poisson: float = 0.5, view: str = "base", apparatus=None,
                 smoothness=KERNEL_NUS, prior: str = "auto", progress=None) -> MapInversion:

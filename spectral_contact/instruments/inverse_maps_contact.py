@@ -64,6 +64,12 @@ NUGGET_DECADES = 4
 """The nugget sd is chosen by evidence among s0, s0/10, ... (this many values; s0 the
 stationary fit's pointwise sd)."""
 _REACH = 8.0
+_UG_KEEP = 12
+"""``ContactMapPrior._projected`` keeps this many (U, G, v) (~0.3 MB each on the studies'
+records)."""
+LAG_TABLE_MAX_CELLS = 4000
+"""Up to this many reachable cells the lags between them are tabulated once (int32, at most
+64 MB; 990 cells on the studies' 160^2 sphere records)."""
 """Cells where z > -_REACH eps (w > ~1e-2 of its centre value) carry the window's part."""
 
 
@@ -149,6 +155,8 @@ class ContactMapPrior:
         self.dist = np.hypot(lx[:, None] - lx[None, :], ly[:, None] - ly[None, :])
         self._s0 = {}
         self._gsub = {}
+        self._ug = {}
+        self._lag = None
 
     # -- the nugget's stationary part ------------------------------------------------------
     def _stationary(self, s_out):
@@ -177,16 +185,30 @@ class ContactMapPrior:
         self._gsub = {}
         return out
 
+    def _lags(self, act):
+        """Flat index (into a [nx, ny] map) of the periodic lag between every two active cells.
+        From a table over every two reachable cells, computed once when it is small enough
+        (``LAG_TABLE_MAX_CELLS``): the index arithmetic was half of a Gram matrix's cost, and
+        the active set changes whenever the ellipse crosses a cell (~80 times in a fit)."""
+        def lags(ci, cj):
+            di = (ci[:, None] - ci[None, :]) % self.shape[0]
+            dj = (cj[:, None] - cj[None, :]) % self.shape[1]
+            return di * self.shape[1] + dj
+
+        if len(self.cells) > LAG_TABLE_MAX_CELLS:
+            return lags(self.cells[act, 0], self.cells[act, 1])
+        if self._lag is None:
+            self._lag = lags(self.cells[:, 0], self.cells[:, 1]).astype(np.int32)
+        return self._lag[np.ix_(act, act)]
+
     def _gram(self, kern, act):
         """M^H S0^-1 M between the active cells (3 n_a x 3 n_a), from its kernel."""
-        ci, cj = self.cells[act, 0], self.cells[act, 1]
-        di = (ci[:, None] - ci[None, :]) % self.shape[0]
-        dj = (cj[:, None] - cj[None, :]) % self.shape[1]
+        lag = self._lags(act)
         n = act.size
         Gc = np.empty((3 * n, 3 * n))
         for i in range(3):
             for j in range(3):
-                Gc[i * n:(i + 1) * n, j * n:(j + 1) * n] = kern[i, j][di, dj]
+                Gc[i * n:(i + 1) * n, j * n:(j + 1) * n] = kern[i, j].ravel().take(lag)
         return 0.5 * (Gc + Gc.T)
 
     # -- the window's part -------------------------------------------------------------------
@@ -238,18 +260,33 @@ class ContactMapPrior:
         n = len(self.cells)
         return np.concatenate([act, act + n, act + 2 * n])
 
-    def _core(self, th, s_out):
-        st = self._stationary(s_out)
+    def _projected(self, th, st):
+        """(U, active cells, active nodes, G = U^T Gc U, v = U^T b) at theta: they depend on
+        the ellipse and mu0 (theta[0:4], theta[6]) only, so they are kept for the last few
+        of those (``_UG_KEEP``): the finite-difference gradient's steps in s_p, l_p, l_r reuse
+        its centre's (3 of its 9 evaluations; U^T Gc U is half of an evaluation's time)."""
+        key = (id(st), np.asarray(th, float)[[0, 1, 2, 3, 6]].tobytes())
+        hit = self._ug.get(key)
+        if hit is not None:
+            return hit
         U, act, nodes = self.U(th)
-        rows = self._rows(act)
-        key = (id(st), act.tobytes())
-        Gc = self._gsub.get(key)
+        gkey = (id(st), act.tobytes())
+        Gc = self._gsub.get(gkey)
         if Gc is None:  # the active cells change only when the ellipse crosses a cell
             Gc = self._gram(st["kern"], act)
-            self._gsub = {key: Gc}
+            self._gsub = {gkey: Gc}
         GU = (U.T @ Gc).T          # Gc U (Gc symmetric)
         G = np.asarray(U.T @ GU)
         G = 0.5 * (G + G.T)
+        v = U.T @ st["bw"][self._rows(act)]
+        if len(self._ug) >= _UG_KEEP:
+            self._ug.pop(next(iter(self._ug)))
+        self._ug[key] = out = (U, act, nodes, G, v)
+        return out
+
+    def _core(self, th, s_out):
+        st = self._stationary(s_out)
+        U, act, nodes, G, v = self._projected(th, st)
         parts = self.Lchol(th, nodes, blocks=True)
         from scipy.linalg import block_diag
 
@@ -263,7 +300,6 @@ class ContactMapPrior:
                 B[cuts[i]:cuts[i + 1], cuts[j]:cuts[j + 1]] = Li.T @ GiL[j]
         B[np.diag_indices_from(B)] += 1.0
         cB = np.linalg.cholesky(B)
-        v = U.T @ st["bw"][rows]
         t = np.linalg.solve(cB, L.T @ v)
         return st, (U, act), L, cB, v, t
 

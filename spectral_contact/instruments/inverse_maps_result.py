@@ -5,6 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..numerics.blas_threads import single_blas_thread
 from .inverse_laws import law_curves
 from .inverse_result import LineInversion
 
@@ -50,7 +51,8 @@ class MapInversion:
         hyperparameters.  The mean minus R(truth) is the noise's part of the error, the truth
         minus R(truth) the resolution's (what the film, the apparatus and the noise do not let
         through).  Arrays [x, y] on this inversion's grid; returns three arrays."""
-        return self.resolution_operator(np.stack([p_Pa, qx_Pa, qy_Pa]))
+        with single_blas_thread():  # the contact prior's small dense algebra, as in the inverse
+            return self.resolution_operator(np.stack([p_Pa, qx_Pa, qy_Pa]))
 
     def maps(self) -> dict:
         return {k: getattr(self, k) for k in MAP_OUT_KEYS}

@@ -170,6 +170,12 @@ class Film:
         """(width [h], weight) of each edge structure the grid must resolve ([]: none)."""
         return []
 
+    def image_factor(self) -> float | None:
+        """Bound of the line kernels' far field (|s| beyond ``domain_margin``) relative to this
+        elastic film's, whose periodic images the solvers' measured amplitude covers: 1.0; None
+        when no bound is known (the line solver then measures the images)."""
+        return 1.0
+
     def tail_poles(self, mu: float = 0.0) -> list[tuple[float, float]]:
         """(l, B) of each long one-sided exponential tail of the line compliance kernel,
         K(s) = B exp(s/l)/|l| for s/l < 0 (s = x - x'), whose periodic images a line grid

@@ -163,6 +163,10 @@ def _check_viscoelastic(scene):
     object.__setattr__(scene, "speed", v)
     object.__setattr__(scene, "prony", _options.option("prony").check(scene.prony))
     if not scene.prony:
+        if v != 0.0:  # an elastic film's steady sliding does not depend on V: not silently
+            raise InputError(f"--speed {v:g} m/s needs --prony (the viscoelastic film's terms "
+                             f"E1,tau1[,...]): an elastic film does not depend on the speed "
+                             f"(--speed 0 or no --speed is the elastic solve)")
         return
     if check_poisson(scene.poisson) != 0.5:
         raise InputError(f"--prony needs --poisson 0.5 (the viscoelastic film is incompressible: "

@@ -56,7 +56,7 @@ import numpy as np
 from ..errors import InputError
 from .film import Film
 from .options import check_prony
-from .transfer import transfer_functions
+from .transfer import F2, tanh_over, transfer_functions
 
 __all__ = ["ViscoelasticFilm", "film_of", "parse_prony", "check_prony"]
 
@@ -215,7 +215,8 @@ class ViscoelasticFilm(Film):
 
     # --- the new length scales ----------------------------------------------------------------
     # decay_rate stays the elastic film's (the images' formula of solvers.fft): the tail's
-    # images are covered by domain_margin and then measured (solvers.fft, step 4)
+    # images are summed (tail_poles) or covered by domain_margin, and bounded (image_factor)
+    # or measured (solvers.fft, step 4)
 
     @property
     def tail_length(self) -> float:
@@ -258,6 +259,85 @@ class ViscoelasticFilm(Film):
             if abs(length) * self.decay_rate < TAIL_CORRECTED:
                 continue
             out.append((length, _tail_symbol(c, h, h / length, mu)))
+        return out
+
+    def image_factor(self) -> float | None:
+        """Bound of the periodic images' effect on a line contact relative to the elastic
+        film's (``Film``: 1), or None (the line solver then measures the images on twice the
+        period, as for every viscoelastic line before).
+
+        The kernel of H(k) R(k) far from the load is a sum of residues at the symbol's poles in
+        the half-plane of the side (R = r + sum c_j / (1 - i k_x l_j), ``partial_fractions``):
+        the elastic film's, the zeros of D = cosh 2K + 1 + 2K^2, each times R there, and the
+        tails' k_x = -i/l_j (behind the load only).  The nearest elastic ones, k_x = +-i kappa
+        (kappa = ``decay_rate`` = 0.7391/h: cos t = t at t = kappa h), carry R(+-i kappa) = r
+        + sum c_j / (1 +- kappa l_j) (real); the next are at |Im k_x| h = 2.487 (K = 1.809 +
+        2.487 i), whose share at the period's margin (kappa s >= ln(100/tol)) is below
+        exp(-1.75 s/h) < 1e-10 of the nearest's.  A bound is known when every tail is either
+
+        - summed (kappa |l_j| >= TAIL_CORRECTED = 2, ``tail_poles``: its own pole's images are
+          exact): its share at the elastic pole is |c_j / (1 -+ kappa |l_j|)| <= c_j / 1; or
+        - short (kappa |l_j| <= 1/2): its share is at most c_j / (1 - kappa |l_j|) <= 2 c_j,
+          and its own pole decays at 1/|l_j| >= 2 kappa: its images are below the square of
+          the elastic ones at the margin;
+
+        between (1/2 < kappa |l_j| < 2) the tail's pole meets the elastic one (a double pole at
+        kappa |l_j| = 1, a far field ~ s exp(-kappa s)): None.  The images' far field is then
+        at most max |R(+-i kappa)| times the elastic one, and the contact it acts on is at
+        least as stiff as the relaxed film and at most as the glassy one (|G*(w)| <= G_0:
+        |R(k)| >= r = E_inf/E_0 on every real k), so their relative effect is at most
+
+            factor = max(|R(i kappa)|, |R(-i kappa)|) / r      (>= 1),
+
+        times the elastic film's (the line solver's measured amplitude, in its estimate, on
+        frictionless contacts; where that passes tol/4 on the period's margin, factor > ~12.5,
+        or with friction it measures them).  Checked on `python -m studies.viscoelastic
+        --parts images` (the fixed grid on its period against twice it, 54 frictionless
+        full-path solves: 0.02-0.24 of the bound).  Without the 1/r the paper's scene (mu 2)
+        at 0.32 m/s (kappa l_r = 2.3, a glassy contact under a far field R(i kappa) = 0.65)
+        was 1.07 times the bound; with it, on a film 11 times stiffer when glassy, 1.6 times:
+        friction can bring the indentation d (relative to itself in the estimate) far below
+        the elastic film's, which the 1/r does not bound (``solvers.fft``)."""
+        if not self.moving:
+            return 1.0
+        r, terms = self.partial_fractions()
+        kappa = self.decay_rate
+        ahead = behind = r
+        for c, tr in terms:
+            kl = kappa * abs(self.speed) * tr
+            if 0.5 < kl < TAIL_CORRECTED:
+                return None
+            ahead += c / (1.0 + kl)
+            behind += c / (1.0 - kl)
+        return max(1.0, abs(ahead) / r, abs(behind) / r)
+
+    def tail_displacement_poles(self, mu: float = 0.0) -> list[tuple[float, object, object]]:
+        """(l_j, Bx_j, By_j) of the same summed tails (``tail_poles``) for the surface's
+        in-plane displacements u_x, u_y of a surface under the pressure p and the shear mu p
+        along x: Bx_j(k_y), By_j(k_y) = c_j U_x, U_y at k_x = -i/l_j (arrays of k_y
+        [1/length], complex; surfaces' output fields).  U = the elastic transfer
+        (``Film.surface_displacement_transfer``) with tau = (mu p, 0): in h units, K_x = k_x h,
+        K_y = k_y h, K^2 = K_x^2 + K_y^2,
+
+            U_x / h = mu [K_x^2 F2/(2K) + K_y^2 tanh(K)/K] / K^2 - i K_x / D,
+            U_y / h = mu K_x K_y [F2/(2K) - tanh(K)/K] / K^2 - i K_y / D,
+
+        even functions of K (the 1/K^2 removable: F2/(2K), tanh(K)/K -> 1); at K_x = -i y
+        (y = h/l), K^2 = K_y^2 - y^2.  A long tail carries the uniform shear's u = mu h p (U_x
+        -> h (mu - y/2) on a line): without its images summed the periodic u_x, u_y near the
+        contact were off by ~ the tail's weight times the contact's size over the period (the
+        sphere at V tau_r = 30 h, mu 0.5, on the 15 h period: 14 % of max |u_x| against four
+        times the period; tests/test_viscoelastic.py)."""
+        if not self.moving:
+            return []
+        _, terms = self.partial_fractions()
+        h = self.thickness
+        out = []
+        for c, tr in terms:
+            length = self.speed * tr
+            if abs(length) * self.decay_rate < TAIL_CORRECTED:
+                continue
+            out.append((length, *_tail_displacement_symbols(c, h, h / length, mu)))
         return out
 
     def tail_amplitude(self, length: float | None = None) -> float:
@@ -360,6 +440,56 @@ def _tail_symbol(c: float, h: float, y: float, mu: float):
                     + mu * y * np.where(K > 1e-4, F1 / (2.0 * Ks * Ks), 0.5))
         return c * h * out
     return coefficient
+
+
+def _even_parts(K2):
+    """(F2/(2K) - 1)/K^2, (tanh(K)/K - 1)/K^2 and 1/D at real K^2 (arrays; K = i t for K^2 <
+    0, |K^2| < 0.5: below the first zero of D, t = 0.739): even functions of K, so real; their
+    series at |K^2| < 2e-3 (sympy: -5/3 + 46 K^2/15 - 1769 K^4/315 + 29146 K^6/2835 and -1/3
+    + 2 K^2/15 - 17 K^4/315 + 62 K^6/2835; the rest below 1e-8 there, 2e-7 at 1e-2)."""
+    K2 = np.asarray(K2, dtype=float)
+    f2 = np.empty(K2.shape)  # F2/(2K)
+    tT = np.empty(K2.shape)  # tanh(K)/K
+    iD = np.empty(K2.shape)  # 1/D
+    neg = K2 < 0.0
+    t = np.sqrt(-K2[neg])
+    ts = np.maximum(t, 1e-300)
+    D = np.cos(2.0 * t) + 1.0 - 2.0 * t * t
+    f2[neg] = (np.sin(2.0 * ts) + 2.0 * ts) / (2.0 * ts * D)
+    tT[neg] = np.tan(ts) / ts
+    iD[neg] = 1.0 / D
+    K = np.sqrt(K2[~neg])
+    Ks = np.where(K > 1e-4, K, 1.0)  # (below: the limits; f2 is then used through its series)
+    _, F1, *_ = transfer_functions(K)
+    f2[~neg] = np.where(K > 1e-4, F2(Ks) / (2.0 * Ks), 1.0)
+    tT[~neg] = tanh_over(K)
+    iD[~neg] = np.where(K > 1e-4, F1 / (2.0 * Ks * Ks), 0.5)  # 1/D = F1/(2K^2)
+    small = np.abs(K2) < 2e-3
+    safe = np.where(small, 1.0, K2)
+    x = K2
+    pf = np.where(small, -5.0 / 3.0 + x * (46.0 / 15.0 + x * (-1769.0 / 315.0 + x * 29146.0 / 2835.0)),
+                  (f2 - 1.0) / safe)
+    pg = np.where(small, -1.0 / 3.0 + x * (2.0 / 15.0 + x * (-17.0 / 315.0 + x * 62.0 / 2835.0)),
+                  (tT - 1.0) / safe)
+    return pf, pg, iD
+
+
+def _tail_displacement_symbols(c: float, h: float, y: float, mu: float):
+    """k_y -> c U_x(-i y/h, k_y), c U_y(-i y/h, k_y) (``ViscoelasticFilm.tail_displacement_poles``):
+    with K_x = -i y, U_x/h = mu [1 - y^2 pf + K_y^2 pg] - y/D, U_y/h = -i K_y [mu y (pf - pg)
+    + 1/D] (pf, pg, 1/D: ``_even_parts`` at K^2 = K_y^2 - y^2)."""
+    def parts(ky):
+        Ky = np.asarray(ky, dtype=float) * h
+        return Ky, _even_parts(Ky * Ky - y * y)
+
+    def bx(ky):
+        Ky, (pf, pg, iD) = parts(ky)
+        return (c * h * (mu * (1.0 - y * y * pf + Ky * Ky * pg) - y * iD)).astype(complex)
+
+    def by(ky):
+        Ky, (pf, pg, iD) = parts(ky)
+        return c * h * (-1j * Ky * (mu * y * (pf - pg) + iD))
+    return bx, by
 
 
 def film_of(scene) -> Film:

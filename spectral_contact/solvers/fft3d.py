@@ -356,14 +356,22 @@ class _SurfaceSolve:
     def fields(self, sol, p, shear):
         """The final grid's base tractions and surface displacements (FFT pairs counted)."""
         prob, scene, film = self.prob, self.scene, self.prob.film
-        if prob.visco:  # the Film's own output fields; the sinking with the long tails'
-            # images summed as in the contact (numerics.operators.tail_terms; u_x, u_y: not)
+        if prob.visco:  # the Film's own output fields; the surface displacements with the
+            # long tails' images summed as in the contact (numerics.operators.tail_terms)
             fft = get_rfft(sol.grid.shape)
             shear_ = (shear, np.zeros_like(p))
             szz, (sxz, syz) = film.base_stresses(fft, sol.grid, -p, shear_)
             (ux, uy), delta = film.surface_displacements(fft, sol.grid, p, shear_)
-            for t in tail_terms(sol.grid.shape, sol.grid.lengths, film.tail_poles(scene.mu)):
-                delta = delta + t.field(p.ravel(), slice(None)).reshape(p.shape)
+            g, flat = sol.grid, p.ravel()
+
+            def summed(field, poles):
+                for t in tail_terms(g.shape, g.lengths, poles):
+                    field = field + t.field(flat, slice(None)).reshape(p.shape)
+                return field
+            delta = summed(delta, film.tail_poles(scene.mu))
+            tails = film.tail_displacement_poles(scene.mu)
+            ux = summed(ux, [(length, bx) for length, bx, _ in tails])
+            uy = summed(uy, [(length, by) for length, _, by in tails])
             prob.counters["transforms"] += 5
             return szz, sxz, syz, ux, uy, delta
         # (a law with q = mu p exactly, e.g. power with n = 0: the Amontons fields, bit for bit)

@@ -1,0 +1,56 @@
+"""numerics.blas_threads: the inverses hold OpenBLAS at one thread and give the count back."""
+import numpy as np
+import pytest
+
+from spectral_contact.numerics import blas_threads
+from spectral_contact.numerics.blas_threads import blas_thread_counts, single_blas_thread
+
+
+def _libs_or_skip():
+    if not blas_threads._libraries():
+        pytest.skip("no OpenBLAS library found in this process (another BLAS or no /proc)")
+
+
+def test_block_sets_one_thread_and_restores_nested():
+    _libs_or_skip()
+    libs = blas_threads._libraries()
+    before = blas_thread_counts()
+    libs[0][1](2)  # as a 2-core machine's default
+    try:
+        with single_blas_thread():
+            assert blas_thread_counts() == [1] * len(libs)
+            with single_blas_thread():
+                assert blas_thread_counts() == [1] * len(libs)
+            assert blas_thread_counts() == [1] * len(libs)  # the outer block still holds it
+        assert blas_thread_counts()[0] == 2
+    finally:
+        for (_, s), n in zip(libs, before):
+            s(n)
+    assert blas_thread_counts() == before
+
+
+def test_inverse_runs_under_one_thread_and_restores_on_error(monkeypatch):
+    _libs_or_skip()
+    from spectral_contact.errors import InputError
+    from spectral_contact.instruments import inverse
+
+    libs = blas_threads._libraries()
+    before = blas_thread_counts()
+    libs[0][1](2)
+    seen = []
+    real = inverse._prepare
+
+    def spy(*a, **k):
+        seen.append(blas_thread_counts())
+        return real(*a, **k)
+
+    monkeypatch.setattr(inverse, "_prepare", spy)
+    try:
+        x = np.linspace(-0.01, 0.01, 4)  # too few samples: refused inside the block
+        with pytest.raises(InputError):
+            inverse.invert_line(x, x, x, prior="contact")
+        assert seen == [[1] * len(libs)]
+        assert blas_thread_counts()[0] == 2
+    finally:
+        for (_, s), n in zip(libs, before):
+            s(n)
