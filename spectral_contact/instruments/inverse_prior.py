@@ -513,6 +513,12 @@ def fit_contact(xh, film, symbols, zs, xs, support=None):
         if v2 <= le + 0.01:
             break
         th, le, free = optimise_contact(ev, zs, xs, start=t2)
+    # a second start on the fine nodes, from their own scan of windows: the first pass's
+    # coarse window can hold the search in a basin whose edge lies ~h outside the contact (a
+    # varying-mu base record: left edge 0.84 mm out, 6.8 nats below this start's maximum)
+    t2, v2, f2 = optimise_contact(ev, zs, xs)
+    if v2 > le + 0.01:
+        th, le, free = t2, v2, f2
     return fwd, ev, _modes(ev, zs, xs, th, le, free), free
 
 
