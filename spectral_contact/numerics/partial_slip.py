@@ -30,12 +30,12 @@ not assumed along Q: the system also holds, on each slip node, the shear r acros
 ``_NEWTON_FLOOR`` |s|; a node that has just begun to slip keeps s along t); t is then turned to
 q/|q| until the change this makes in q, |mu| p |dt|, and the excess |q| - |mu| p (r makes |q|
 exceed |mu| p by its square) are below ``dir_tol`` |mu| p_max (default: the accepted residual),
-the inner tolerance following the turn (inexact Newton).  The turn is
-weighed by p as the friction-law check weighs it (below): the direction at the contact's edge,
-where p vanishes, moves no shear (the largest turn was also held below sqrt(dir_tol): edge
-nodes with p ~ 1e-3 p_max then took 2-4 extra solves per tangential step of a sphere on
-256^2).  Set updates: a stick node whose |q| exceeds |mu| p slips along q/|q|; a slip node
-whose s points against t sticks; a node coming into contact slips along its s (it sticks at a later iteration if that
+the inner tolerance following the turn (inexact Newton).  The turn is weighed by p as the
+friction-law check weighs it (below): the direction at the contact's edge, where p vanishes,
+moves no shear (the largest turn was also held below sqrt(dir_tol): edge nodes with p ~ 1e-3
+p_max then took 2-4 extra solves per tangential step of a sphere on 256^2).  Set updates: a
+stick node whose |q| exceeds |mu| p slips along q/|q|; a slip node whose s points against t
+sticks; a node coming into contact slips along its s (it sticks at a later iteration if that
 reverses).  A cycle of the sets is retried at the full inner tolerance, then with one change of
 each kind per iteration, then accepted as a one-node stick-slip boundary if its friction-law
 violation is below ``_MARGINAL``.
@@ -442,15 +442,15 @@ def solve_slip_step(op: PartialSlipOperator, f: np.ndarray, prev: SlipState, P: 
     rt = max(rtol, search_rtol or rtol)
     cautious = marginal = False
     cycles = 0
-    slip_mag = np.zeros(f.size)  # s . t of the last iteration (surfaces' Newton term)
+    slip_along = np.zeros(f.size)  # s . t of the last iteration (surfaces' Newton term)
     for outer in range(1, max_outer + 1):  # noqa: B007 (the count is reported after the loop)
-        lin = _Linear(op, f, sets, (u_prev, d_prev), P, Qv, mu, gross, slip_mag, fields[0])
+        lin = _Linear(op, f, sets, (u_prev, d_prev), P, Qv, mu, gross, slip_along, fields[0])
         p, q, w, u, d, delta, rel = lin.solve(fields, rt, max_krylov)
         for k in counters:
             counters[k] += lin.counters[k]
         fields = (p, q, d, delta)
         gap = f - d + w
-        new, (ds, slip_mag, _), turn = _update(sets, (p, q, w, u, d, delta, gap), d_prev,
+        new, (ds, slip_along, _), turn = _update(sets, (p, q, w, u, d, delta, gap), d_prev,
                                                u_prev, mu, gross, qdir, cautious,
                                                Qv / op.cell)
         same = np.array_equal(new[0], sets[0]) and np.array_equal(new[1], sets[1])
