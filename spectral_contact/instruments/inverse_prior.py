@@ -481,8 +481,10 @@ docstring): the first pass's window, or the known support."""
 def fit_contact(xh, film, symbols, zs, xs, support=None):
     """Two passes: coarse nodes over the record +- MARGIN_H (the window's search: a scan of
     windows, one local search from the best, an edge scan), then fine nodes on the window +-
-    EDGE_SPAN_H from the first pass's optimum, an edge scan, and the evidence's profile over
-    l_p (``_modes``), whose points ``invert_line`` mixes by evidence.
+    EDGE_SPAN_H from the first pass's optimum (l_p capped at LP_MAX_WIDTH of its half-width):
+    a local search from that optimum (l_p held first), an edge scan, a second local search
+    from the fine nodes' own scan of windows (the higher maximum kept), and the evidence's
+    profile over l_p (``_modes``), whose points ``invert_line`` mixes by evidence.
     Returns (forward map, ContactPrior, [(theta, log-evidence), ...] best first, free mask)."""
     from .inverse_forward import MARGIN_H, LineForward
 
