@@ -490,15 +490,17 @@ def test_line_images_bounded_with_friction():
     period) where the frictionless bound applies, times max(1, d_el/d) (d relative to itself;
     friction can take it far below the relaxed film's d_el): the paper's scene (mu 2) on the
     SLS at 0.316 m/s (d_ratio 1.9: without it 0.82 of the bound, with it 0.42) and on a film
-    11 times stiffer when glassy at 1 m/s (d = 0.22 against 1.67: d_ratio 7.5); the solve's
-    own fixed grid on its period against twice it within the image term.  The case that
+    11 times stiffer when glassy at 1 m/s (d = 0.22 against 1.67: d_ratio 7.5), and a contact
+    of half-width 6.4 h (P_L 2e4 N/m, 0.05 m/s); the solve's own fixed grid on its period
+    against twice it within the image term.  The case that
     failed the plain bound (the stiff film at 0.316 m/s, d = 0.11: 1.6 times it) is measured
     (``test_line_images_bounded_without_the_measurement``)."""
     from spectral_contact.solvers.fft import solve_fft
     from studies.viscoelastic import FILM, _line_change
 
-    for prony, V, least in ((SLS, 0.316, 1.5), (((10 * E_INF, 0.01),), 1.0, 5.0)):
-        s = Scene(load=200.0, mu=2.0, speed=V, prony=prony, **FILM)
+    for load, prony, V, least in ((200.0, SLS, 0.316, 1.5), (200.0, ((10 * E_INF, 0.01),), 1.0, 5.0),
+                                  (2e4, SLS, 0.05, 1.0)):  # (the last: a = 6.4 h, 0.64 of it)
+        s = Scene(load=load, mu=2.0, speed=V, prony=prony, **FILM)
         r = solve_fft(s, tol=TOL)
         assert r.info["domain_difference"] == 0.0
         assert r.info["friction_images_bound"]["d_ratio"] > least
