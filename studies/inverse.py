@@ -323,7 +323,9 @@ def main(argv=None) -> int:
               "inverse: CPU seconds of one inversion (median of warm runs; process_time, one "
               "thread), the evidence evaluations it made (contact and envelope priors), and in "
               "the same run the CPU time of one contact-prior evaluation with gradient (60 "
-              "nodes) and of an FFT pair (8192 points)")
+              "nodes) and of an FFT pair (8192 points); the inversion holds one BLAS thread "
+              "(blas_threads_outside: this process's count outside it); warmup_cpu_s: the "
+              "record's first inversion (the first row's: the process's first)")
     if "figure" in parts:
         # example record for a new user (strength case, sensor-free, 1 % noise)
         x, p, q, szz, sxz, P, Q = truths["strength"]

@@ -29,28 +29,45 @@ def test_block_sets_one_thread_and_restores_nested():
     assert blas_thread_counts() == before
 
 
-def test_inverse_runs_under_one_thread_and_restores_on_error(monkeypatch):
+def _runs_under_one_thread(monkeypatch, module, checker, call):
+    """``call()`` (refused by its input check ``module.checker``) sees one BLAS thread in every
+    library, and the count found before (2 here) is given back."""
     _libs_or_skip()
     from spectral_contact.errors import InputError
-    from spectral_contact.instruments import inverse
 
     libs = blas_threads._libraries()
     before = blas_thread_counts()
     libs[0][1](2)
     seen = []
-    real = inverse._prepare
+    real = getattr(module, checker)
 
     def spy(*a, **k):
         seen.append(blas_thread_counts())
         return real(*a, **k)
 
-    monkeypatch.setattr(inverse, "_prepare", spy)
+    monkeypatch.setattr(module, checker, spy)
     try:
-        x = np.linspace(-0.01, 0.01, 4)  # too few samples: refused inside the block
         with pytest.raises(InputError):
-            inverse.invert_line(x, x, x, prior="contact")
+            call()
         assert seen == [[1] * len(libs)]
         assert blas_thread_counts()[0] == 2
     finally:
         for (_, s), n in zip(libs, before):
             s(n)
+
+
+def test_inverse_runs_under_one_thread_and_restores_on_error(monkeypatch):
+    from spectral_contact.instruments import inverse
+
+    x = np.linspace(-0.01, 0.01, 4)  # too few samples: refused inside the block
+    _runs_under_one_thread(monkeypatch, inverse, "_prepare",
+                           lambda: inverse.invert_line(x, x, x, prior="contact"))
+
+
+def test_maps_inverse_runs_under_one_thread(monkeypatch):
+    from spectral_contact.instruments import inverse_maps
+
+    x = np.linspace(-0.01, 0.01, 3)  # too few points: refused inside the block
+    z = np.zeros((3, 3))
+    _runs_under_one_thread(monkeypatch, inverse_maps, "_check_maps",
+                           lambda: inverse_maps.invert_maps(x, x, z, z, z))

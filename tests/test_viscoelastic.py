@@ -523,3 +523,22 @@ def test_sphere_surface_displacements_tail_images_summed(sign, monkeypatch):
     monkeypatch.setattr(ViscoelasticFilm, "tail_displacement_poles", lambda self, mu=0.0: [])
     ch = change()
     assert ch["surface_ux"] > 1e-2 and ch["surface_uy"] > 1e-2 and ch["surface_uz"] < 1e-5, ch
+
+
+@pytest.mark.parametrize("tol", [1e-3, 1e-4])
+def test_slow_sliding_takes_the_elastic_grids(tol):
+    """The slow path's elastic solve runs at tol less the remainder (1e-6 here), not 3 tol/4:
+    it takes the elastic solve's own grid (the paper's scene at tol 1e-4: 16384 points at 3
+    tol/4 against the elastic 2048, the estimates not being monotone in N), and its estimate,
+    the elastic one plus the remainder, stays within tol."""
+    from studies.viscoelastic import FILM
+
+    kw = dict(load=200.0, mu=2.0, tol=tol, **FILM)
+    slow = solve(speed=1e-4, prony=SLS, **kw)
+    el = solve(**kw)
+    rem = slow.info["slow_sliding"]["remainder"]
+    assert rem <= 1e-2 * tol * (1 + 1e-9)
+    assert slow.grid_points == el.grid_points
+    assert slow.error_estimate == pytest.approx(
+        slow.info["slow_sliding"]["elastic_error_estimate"] + rem, rel=1e-12)
+    assert slow.error_estimate <= tol and slow.info["tolerance_met"]

@@ -2,20 +2,22 @@
 
 The inverses (``instruments.inverse*``) spend their time in hundreds of products and
 factorisations of matrices of order 60-300.  OpenBLAS splits such a product over every core it
-sees; at that size the threads' start-up and spin-waiting cost more than the product (measured
-on the shared 2-core machine, one contact-prior evidence evaluation with its gradient, 61
-nodes: 0.71 ms of CPU with one thread, 1.4 ms with two on an idle machine and 16 ms with two
-while one other process ran; a 160^2 surface map's inversion 4.2 s against 18 s CPU at a load
-of 1.5-2).  ``single_blas_thread()`` holds the BLAS libraries loaded in this process at one
-thread for the duration of a ``with`` block (or of a function decorated with it) and restores
-their count afterwards, as ``OPENBLAS_NUM_THREADS=1`` would for the whole process.
+sees; at that size the threads' start-up and spin-waiting cost more than the product, and
+``time.process_time`` counts every thread (measured on the shared 2-core machine, one
+contact-prior evidence evaluation with its gradient, 61 nodes: 0.71 ms of CPU with one thread,
+16 ms with two while one other process ran, 1.4 ms with two at a load of 0.4 in an earlier
+session; a 160^2 surface map's inversion 4.2 s against 18 s CPU at a load of 1.5-2; studies/
+README, inverse and inverse_maps, Speed).  ``single_blas_thread()`` holds the BLAS
+libraries loaded in this process at one thread for the duration of a ``with`` block (or of a
+function decorated with it) and restores their count afterwards, as ``OPENBLAS_NUM_THREADS=1``
+would for the whole process; the results are bit for bit those of that setting (the thread
+count changes only the rounding of a product, but the evidence's optimisers follow it).
 
 Which libraries: the OpenBLAS builds loaded in the process (numpy's and scipy's wheels each
 carry one), found in ``/proc/self/maps`` and driven through their
 ``[scipy_]openblas_{get,set}_num_threads[64_]`` entry points.  Elsewhere (no /proc, another
-BLAS: Accelerate, MKL) it does nothing; the results never depend on it, only the time.
-Nested and concurrent blocks share one count: the first to enter sets one thread, the last to
-leave restores the number found on entry.
+BLAS: Accelerate, MKL) it does nothing.  Nested and concurrent blocks share one count: the
+first to enter sets one thread, the last to leave restores the number found on entry.
 """
 from __future__ import annotations
 

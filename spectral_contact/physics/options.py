@@ -269,7 +269,8 @@ OPTIONS: tuple[Option, ...] = (
     # --- a viscoelastic film (issue 23) ---
     Option("speed", "V, the sliding speed of a viscoelastic film", "m/s", default=0.0,
            sweep=True, json="speed_m_per_s", cli="solve",
-           help="signed like --mu (0: the relaxed film); with --prony"),
+           help="signed like --mu; != 0 needs --prony (0: the relaxed film, with or without "
+                "it)"),
     Option("prony", "the Prony terms of a viscoelastic film", kind=tuple, default=(),
            sweep=True, json="prony_terms", cli="solve", needs="speed",
            help="moduli E_i and relaxation times tau_i; --young is the relaxed modulus E_inf; "
