@@ -21,7 +21,12 @@ edge carried by W at the cells' own resolution.
 
 The eight hyperparameters (c_x, c_y, log a_x, log a_y, log s_p, log l_p, mu0, log l_r) maximise
 the evidence with the nugget s_out and the noise fixed (the noise at the stationary fit's
-values, which 3 N samples determine; s_out by a one-dimensional maximisation afterwards).
+values, which 3 N samples determine; s_out chosen among decades at the end point, the fit
+repeated until that choice settles).  l_p is at most the contact's width (``LP_MAX_WIDTH``).
+The fit runs to convergence with the analytic gradient below (L-BFGS-B), and reports it: the
+Newton step its end point leaves, in each hyperparameter's Laplace sd (``remaining_step``).
+(It used to stop after 15 + 8 iterations with differenced gradients, 9-18 nats below the
+maximum on the study's records, so that a change of rounding moved its answers.)
 
 Evidence and posterior.  The nugget's part is stationary: S0(k) = s_out^2 M M^H + D per mode.
 The window's part has few unknowns (g on the lattice, tau): with U the cells-from-unknowns map
@@ -36,6 +41,13 @@ posterior of the residual data.  So the tractions' posterior mean is U g + R0 (y
 their covariance C0 + T U Sigma_g U^T T^T, with R0 = s_out^2 M^H S0^-1 M, T = I - R0 and C0 =
 s_out^2 T (per mode): the pointwise variance is C0's (the same everywhere) plus the window's
 part, large where the contact's shape leaves the tractions uncertain.
+
+Gradient.  With Sigma = L B^-1 L^T and m = Sigma v (the unknowns' posterior covariance and
+mean), the prior's covariance K = L L^T (s_p, l_p, l_r) enters as d log Z = (a^T dK a -
+tr(W dK)) / 2 with a = v - G m, W = G - G Sigma G, and U (the ellipse through w and I, and
+mu0) as d log Z = <dU, R> (Frobenius) with R = b m^T - Gc U (m m^T + Sigma), b the cells'
+M^H S0^-1 y and Gc the cells' M^H S0^-1 M.  One gradient costs ~1.5 evaluations (central
+differences: 16).
 """
 from __future__ import annotations
 
@@ -90,8 +102,8 @@ _REACH = 8.0
 _TAPER = 2.0
 """w and I fall to zero over the outermost ``_TAPER`` eps of the active band (``window``)."""
 _UG_KEEP = 12
-"""``ContactMapPrior._projected`` keeps this many (U, G, v) (~0.3 MB each on the studies'
-records)."""
+"""``ContactMapPrior._projected`` keeps this many (U, G, v) (~1 MB each on the studies'
+records), and Gc U for the last one (for the gradient at the point just evaluated)."""
 LAG_TABLE_MAX_CELLS = 4000
 """Up to this many reachable cells the lags between them are tabulated once (int32, at most
 64 MB; 990 cells on the studies' 160^2 sphere records)."""
@@ -241,7 +253,9 @@ class ContactMapPrior:
         is ~2e-2 sqrt(eps) of its centre value).  Both are tapered to zero over the outermost
         ``_TAPER`` eps of that band (a C^1 smoothstep), so that a cell enters the active set
         with zero weight: the evidence is then continuous (C^1) in the ellipse, as a
-        gradient-based fit needs (it jumped by up to ~1e-2 nats when a cell entered).
+        gradient-based fit needs (it jumped by ~2e-2 nats when a cell entered, on the study's
+        amontons sensor record seed 3; now its second differences at those points are those of
+        its curvature, ~1e-4).
         ``deriv``: also d w / d theta[0:4] and d I / d theta[0:4] on the active cells
         (4, n_a) each."""
         cx, cy = th[0], th[1]
@@ -315,8 +329,9 @@ class ContactMapPrior:
     def _projected(self, th, st):
         """(U, active cells, active nodes, G = U^T Gc U, v = U^T b, Gc U) at theta: they depend on
         the ellipse and mu0 (theta[0:4], theta[6]) only, so they are kept for the last few
-        of those (``_UG_KEEP``): the finite-difference gradient's steps in s_p, l_p, l_r reuse
-        its centre's (3 of its 9 evaluations; U^T Gc U is half of an evaluation's time)."""
+        of those (``_UG_KEEP``): the Laplace step's differences in s_p, l_p, l_r reuse their
+        centre's (U^T Gc U is half of an evaluation's time); Gc U (None in all but the last
+        entry) is for the gradient."""
         key = (id(st), np.asarray(th, float)[[0, 1, 2, 3, 6]].tobytes())
         hit = self._ug.get(key)
         if hit is not None:
@@ -333,6 +348,8 @@ class ContactMapPrior:
         v = U.T @ st["bw"][self._rows(act)]
         if len(self._ug) >= _UG_KEEP:
             self._ug.pop(next(iter(self._ug)))
+        for k, old in self._ug.items():  # Gc U (3 n_a x ~350, ~8 MB) kept for the last only
+            self._ug[k] = old[:5] + (None,)
         self._ug[key] = out = (U, act, nodes, G, v, GU)
         return out
 
@@ -375,6 +392,8 @@ class ContactMapPrior:
 
         st = self._stationary(s_out)
         U, act, nodes, G, v, GU = self._projected(th, st)
+        if GU is None:
+            GU = (U.T @ self._gram(st["kern"], act)).T
         F = L @ solve_triangular(cB.T, np.eye(cB.shape[0]), lower=False)
         Sig = F @ F.T                          # posterior covariance of the unknowns
         m = F @ t                              # their posterior mean, Sig v
