@@ -267,3 +267,14 @@ def test_row_pruned_transform_equals_the_full_one():
         assert np.abs(op.full_output() - ref).max() <= 1e-12 * scale
     assert op.band(np.array([5 * 64 + 3, 9 * 64 + 60])) == (5, 13)  # rows 5-9, 8 rows
     assert op.band(np.array([62 * 64])) == (56, 64)  # at the last row: shifted back
+
+
+def test_gross_sliding_carries_its_predecessors_load_step_estimate(sphere_pair):
+    """At gross sliding (the last step, Q = mu P) the state is the limit of the partial slip
+    ones and carries the previous step's error: its load-step estimate is at least that step's
+    (the two step sizes' runs can agree there by chance: ``onset_core.load_step_estimates``)."""
+    for r in sphere_pair:
+        e = r.load_step_estimates
+        assert r.Q_over_muP[-1] == 1.0 and e[-2] > 0.0
+        assert e[-1] >= e[-2]
+        assert r.error_estimates[-1] >= e[-2]

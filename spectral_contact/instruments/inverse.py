@@ -37,8 +37,11 @@ over a factor 10 (a rigid p with the shape's detail in the varying-mu part, or a
 a smooth mu), and the window moves with l_p: l_p is integrated on the evidence's profile (l_p
 stepped by 0.5 in its log, the other hyperparameters re-maximised at each step; the points
 within 5 nats of the best mixed with weights exp(log-evidence), ``regularisation.
-evidence_maxima``); one maximum alone gave 2-sd coverage of p near 0.5 on the varying-mu
-records, two restarts (a rigid and a flexible p) 0.60, the profile 0.71 (studies/README).
+evidence_maxima``), with l_p at most the contact's width (``inverse_prior.LP_MAX_WIDTH``: longer
+lengths only make p the parametric semi-ellipse, toward which the evidence is flat); on the
+varying-mu sensor records one maximum alone gave 2-sd coverage of p near 0.5, two restarts (a
+rigid and a flexible p) 0.60, the profile to 20 h 0.75, the capped profile 1.00
+(studies/README).
 
 Posterior.  Gaussian given the hyperparameters; with ``hyper=True`` (default, contact prior)
 the other hyperparameters' own uncertainty is added to first order at each profile point

@@ -161,6 +161,33 @@ def solve_onset3d(scene: Scene3D, path, tol: float = DEFAULT_TOL_3D, *,
     t0 = time.perf_counter()
     scene = check_onset_scene3d(scene)
     tol = check_tol(tol)
+    run, n, image, steady, film = loading_runner(scene, path, tol, loading=loading,
+                                                 loading_steps=loading_steps,
+                                                 grid_points=grid_points,
+                                                 domain_length=domain_length, progress=progress)
+    fine, est, stick_est, met, n, _, counters, coarse = refine(
+        run, n, tol, image, _differences, fixed=bool(grid_points), max_doublings=1,
+        max_points=MAX_POINTS_3D)
+    if not met and not grid_points:
+        raise ConvergenceError(f"onset (3D): error estimate {max(est):.1e} > tol {tol:g} at "
+                               f"{n}^2 points; raise tol or fix grid_points", residuals=est)
+    # the load steps' share (not reduced by the grid: flagged, tolerance_met False)
+    est, stick_est, step_est, counters = with_load_steps(
+        fine, coarse, run, list(path), loading, loading_steps, _differences, est, stick_est,
+        counters)
+    met = max(est) <= tol
+    return OnsetResult3D(scene, list(path), loading, loading_steps, tol, fine, est,
+                         stick_est, steady, met,
+                         time.perf_counter() - t0, counters, film, step_est)
+
+
+def loading_runner(scene: Scene3D, path, tol: float, *, loading: str = "frictional",
+                   loading_steps: int = LOADING_STEPS, grid_points=None, domain_length=None,
+                   progress=None):
+    """What ``solve_onset3d`` runs (a checked ``scene``): ``run(npts, path, loading_steps)``
+    (a ``LoadingRun`` on npts^2 points of the domain chosen for ``tol``), the first grid's
+    npts, the periodic images' bound, the steady solution and the film.  (Also for studies
+    that run the same loading on other grids and steps: ``studies.onset_reference``.)"""
     film = Film(poisson=scene.poisson)
     P, mu = scene.P, scene.mu
     accept = max(1e-8, 1e-2 * tol)
@@ -191,20 +218,7 @@ def solve_onset3d(scene: Scene3D, path, tol: float = DEFAULT_TOL_3D, *,
         return LoadingRun(_Surface(ind), Grid.centered((npts, npts), L, center), film, P, mu,
                           path_, loading, steps_, accept, progress if path_ is path else None)
 
-    fine, est, stick_est, met, n, _, counters, coarse = refine(
-        run, n, tol, image, _differences, fixed=bool(grid_points), max_doublings=1,
-        max_points=MAX_POINTS_3D)
-    if not met and not grid_points:
-        raise ConvergenceError(f"onset (3D): error estimate {max(est):.1e} > tol {tol:g} at "
-                               f"{n}^2 points; raise tol or fix grid_points", residuals=est)
-    # the load steps' share (not reduced by the grid: flagged, tolerance_met False)
-    est, stick_est, step_est, counters = with_load_steps(
-        fine, coarse, run, list(path), loading, loading_steps, _differences, est, stick_est,
-        counters)
-    met = max(est) <= tol
-    return OnsetResult3D(scene, list(path), loading, loading_steps, tol, fine, est,
-                         stick_est, steady, met,
-                         time.perf_counter() - t0, counters, film, step_est)
+    return run, n, image, steady, film
 
 
 class OnsetResult3D(OnsetBase):
