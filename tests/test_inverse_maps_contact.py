@@ -175,3 +175,15 @@ def test_contact_fit_converged_and_stable(disc):
     m1, var1 = prior.posterior(th, s_out)[:2]
     m2 = prior2.posterior(th2, s2)[0]
     assert np.max(np.abs(m1 - m2) / np.sqrt(var1)) < 1e-2
+
+
+def test_contact_fit_not_converged_is_flagged(monkeypatch):
+    """A fit stopped early (two L-BFGS-B iterations a round) is reported as not converged, with
+    the step it leaves (many sd), rather than passed off as the maximum."""
+    from spectral_contact.instruments import inverse_maps_contact as ic
+
+    monkeypatch.setattr(ic, "OPT_MAXITER", 2)
+    _, d = _maps(0.01, 5)
+    reg = im.invert_maps(X, Y, *d, thickness=H, prior="contact").summary()["regularisation"]
+    assert reg["optimizer_converged"] is False
+    assert reg["optimizer_step_sd"] > ic.CONVERGED_STEP_SD
