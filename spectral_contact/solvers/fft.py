@@ -526,9 +526,12 @@ class _LineSolve:
         fine = lv.cur.grid
         g = Grid.centered(max(fine.n // 8, MIN_POINTS), L, self._center)
         relaxed = dataclasses.replace(self.scene, speed=0.0, prony=()).core_film()
-        el = prob.count(prob.solve_contact(
-            g, self.indenter, relaxed,
-            np.interp(g.x, fine.x, lv.cur.sol.pressure, period=L), False))
+        try:
+            el = prob.count(prob.solve_contact(
+                g, self.indenter, relaxed,
+                np.interp(g.x, fine.x, lv.cur.sol.pressure, period=L), False))
+        except ConvergenceError:
+            return False  # (measured instead)
         ratio = max(1.0, float(el.indentations[0]) * (1.0 + _D_EL_MARGIN) / d)
         bound = self.image_error(lv.cur.q, L) * self.friction_factor * ratio
         if not (bound <= 0.25 * prob.tol and lv.disc + bound <= prob.tol):
