@@ -25,3 +25,15 @@ def test_surface_fixed_grid_flags_tolerance(capsys):
     assert json.loads(out)["tolerance_met"] is False
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("warning:") and "--grid-points" in lines[0]
+
+
+def test_stagnation_hint_names_a_method_that_takes_the_scene(capsys):
+    """No convergence (exit 3) on a viscoelastic line: the one line must not send the user to
+    --method abel, which refuses --prony (exit 2).  Before: "(try --method abel)"."""
+    args = ["solve", "--load", "4.43", "--mu", "0", "--thickness", "0.05", "--speed", "0.01",
+            "--prony", "3e6,0.02", "--tol", "1e-4"]
+    assert main(args) == 3
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "stagnates" in err[0]
+    assert "abel" not in err[0] and "tol" in err[0]
+    assert main(args + ["--method", "abel"]) == 2  # why the hint must not name it
