@@ -5,8 +5,12 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
+import pytest
+
 from spectral_contact import solve
 from spectral_contact.cli.main import main
+from spectral_contact.errors import InputError
 
 
 def test_surface_fixed_grid_flags_tolerance(capsys):
@@ -37,3 +41,40 @@ def test_stagnation_hint_names_a_method_that_takes_the_scene(capsys):
     assert len(err) == 1 and "stagnates" in err[0]
     assert "abel" not in err[0] and "tol" in err[0]
     assert main(args + ["--method", "abel"]) == 2  # why the hint must not name it
+
+
+def _record(path, names, n=40):
+    import numpy as np
+
+    x = np.linspace(-0.01, 0.01, n)
+    zz = 1e4 * np.exp(-(x / 0.003) ** 2)
+    path.write_text(",".join(names) + "\n" + "\n".join(
+        f"{a:.17g},{b:.17g},{c:.17g}" for a, b, c in zip(x, zz, 0.5 * zz)) + "\n")
+    return str(path)
+
+
+def test_invert_gains_only_for_U_files(tmp_path, capsys):
+    """--a-zz/--a-xz (the gains of U_*_mV columns) on a file that has no U columns would do
+    nothing: refused in one line naming the option, exit 2, nothing written (as --apparatus-*
+    on a base record).  Before: accepted and silently ignored."""
+    out = tmp_path / "o.csv"
+    for names in (("x_m", "base_sigma_zz_Pa", "base_sigma_xz_Pa"), ("x_m", "S_zz_Pa", "S_xz_Pa")):
+        f = _record(tmp_path / "r.csv", names)
+        for opt in ("--a-zz", "--a-xz"):
+            assert main(["invert", f, opt, "10", "--out", str(out)]) == 2
+            err = capsys.readouterr().err.strip().splitlines()
+            assert len(err) == 1 and opt in err[0] and "U_" in err[0]
+            assert not out.exists()
+    from spectral_contact.instruments.inverse import read_record
+
+    with pytest.raises(InputError, match="A_zz_mV_per_bar"):
+        read_record(f, A_zz_mV_per_bar=10.0)
+    f = _record(tmp_path / "u.csv", ("x_m", "U_zz_mV", "U_xz_mV"))
+    x, zz, xz, view = read_record(f, A_zz_mV_per_bar=38.0, A_xz_mV_per_bar=3.975)
+    x2, zz2, xz2, _ = read_record(f)  # the paper's 19, 7.95: the gains divide
+    assert view == "sensor" and np.allclose(zz * 2, zz2) and np.allclose(xz, xz2 * 2)
+    m = tmp_path / "m.npz"
+    np.savez(m, x_m=np.arange(3.0))
+    assert main(["invert", str(m), "--a-xz", "3", "--out", str(tmp_path / "o.npz")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--a-xz" in err[0] and not (tmp_path / "o.npz").exists()
