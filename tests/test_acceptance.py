@@ -78,3 +78,17 @@ def test_invert_gains_only_for_U_files(tmp_path, capsys):
     assert main(["invert", str(m), "--a-xz", "3", "--out", str(tmp_path / "o.npz")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--a-xz" in err[0] and not (tmp_path / "o.npz").exists()
+
+
+def test_onset_surface_refuses_a_grid_beyond_memory(monkeypatch):
+    """A sphere much smaller than a thick film: onset's period is the film's decay margin at
+    the contact's cells (8192^2 points for F = 0.3 N, h = 5 cm: ~39 GB by solve's own
+    estimate).  Refused in one line before any work, as solve refuses its grids (here with the
+    available memory set to 1 GB: h = 2 cm needs 2048^2, ~2.4 GB).  Before: the run started
+    and was killed by the kernel's OOM killer at 22 GB (exit 137, no message)."""
+    import spectral_contact.solvers.fft3d as f3
+    from spectral_contact import onset
+
+    monkeypatch.setattr(f3, "_available_memory", lambda: 1e9)
+    with pytest.raises(InputError, match="GB"):
+        onset(indenter="sphere", force=0.3, thickness=0.02, mu=0.4, steps=2, loading_steps=1)
