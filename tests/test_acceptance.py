@@ -92,3 +92,18 @@ def test_onset_surface_refuses_a_grid_beyond_memory(monkeypatch):
     monkeypatch.setattr(f3, "_available_memory", lambda: 1e9)
     with pytest.raises(InputError, match="GB"):
         onset(indenter="sphere", force=0.3, thickness=0.02, mu=0.4, steps=2, loading_steps=1)
+
+
+def test_onset_plot_tractions_on_the_contact():
+    """The onset figure's tractions panel shows the contact, not the base stresses' reach:
+    on a thick film (a/h = 0.027) that reach is +-2 h = +-80 mm around a 2 mm contact, which
+    drew the tractions as a spike.  The base-stress panel keeps its +-(a + 2 h)."""
+    from spectral_contact import onset
+
+    r = onset(load=20, thickness=0.04, mu=0.5, steps=2, loading_steps=2)
+    fig = r.plot()
+    a_mm = max(s["half_width_m"] + abs(s["contact_center_m"]) for s in r.summary()["steps"]) * 1e3
+    lo, hi = fig.axes[0].get_xlim()
+    assert hi - lo < 5 * a_mm and lo < -a_mm and hi > a_mm
+    lo, hi = fig.axes[1].get_xlim()
+    assert hi - lo > 2 * 2 * 40  # the base stresses over +-(a + 2 h) [mm]
