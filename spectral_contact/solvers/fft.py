@@ -338,7 +338,16 @@ class _LineSolve:
 
     MIN_LEVELS = 3  # the estimate uses the previous difference: from the third level on
     RETRY_FINER = True
-    ALTERNATIVE = "try method abel"
+
+    @property
+    def ALTERNATIVE(self) -> str:  # noqa: N802 (the driver's class-level name, fft_driver)
+        """What to try when the levels stagnate: method abel where it takes the scene
+        (incompressible, Amontons, rigid interface, elastic film: ``AbelMethod.solve``)."""
+        s = self.scene
+        if (s.poisson == 0.5 and s.friction.is_amontons and s.interface_compliance == 0.0
+                and s.interface_law == "linear" and not self.prob.visco):
+            return "try method abel"
+        return "raise tol"
 
     def __init__(self, prob: Problem, grid_points, domain_length):
         self.prob, self.scene = prob, prob.scene
