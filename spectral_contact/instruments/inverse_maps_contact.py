@@ -27,7 +27,7 @@ repeated until that choice settles).  l_p and l_r are at most the contact's widt
 The fit runs to convergence with the analytic gradient below (L-BFGS-B), and reports it: the
 Newton step its end point leaves, in each hyperparameter's Laplace sd (``remaining_step``).
 (It used to stop after 15 + 8 iterations with differenced gradients, unconverged: 1e-12 of
-the data moved a study record's answer by 1 sd, a slightly moved start the test disc's by ~10.)
+the data moved a study record's answer by 1 sd, a slightly moved start the test disc's by 4.)
 
 Evidence and posterior.  The nugget's part is stationary: S0(k) = s_out^2 M M^H + D per mode.
 The window's part has few unknowns (g on the lattice, tau): with U the cells-from-unknowns map
