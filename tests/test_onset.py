@@ -139,6 +139,25 @@ def test_small_mu_frictional_loading_converges():
     assert r.measures[0]["stick_nodes"] <= 3  # the loaded state: (almost) all slipping
 
 
+def test_balanced_loads_keep_the_stick_nodes_stuck():
+    """The accepted step's loads are restored by uniform shifts (``partial_slip._balance``);
+    the indenter then moves with the stick nodes' mean displacement, else the shifts' smooth
+    displacement showed as slip.  In the normal loading the slip increments are tiny: on the
+    paper line with 16 loading steps on 1024 points a node just come into contact then slipped
+    back by 0.67 of the step's largest slip (exit 3).  Now every step's reverse slip is within
+    the accepted residual, and the stick nodes' mean slip increment vanishes (below gross
+    sliding; measured <= 1.3e-7 of the step's largest slip)."""
+    r = onset(Scene(), steps=8, loading_steps=16, grid_points=1024)
+    for k, s in enumerate(r.states):
+        assert s.residuals["slip_direction"] <= 1e-2 * r.tol
+        if 0 < k < len(r.states) - 1:
+            prev = r.states[k - 1]
+            ds = (s.delta - prev.delta) - (s.u - prev.u)
+            both = s.stick & prev.contact
+            scale = np.abs(ds[s.contact & prev.contact]).max()
+            assert abs(ds[both].mean()) <= 1e-5 * scale
+
+
 def test_mirror_mu(paper, mirrored):
     """mu -> -mu: the loading mirrored in x (x -> -x), shear and slip with the opposite sign."""
     n = paper.grid.n
