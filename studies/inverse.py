@@ -1,7 +1,7 @@
 """Inverse: from base stresses (or the MEMS view) back to the interface tractions (issue 21).
 
     python -m studies.inverse [--quick] [--out DIR] [--seeds N]
-                              [--parts calibration,sweep,routes,speed,figure]
+                              [--parts calibration,sweep,routes,speed,figure,noise_free]
 
 Synthetic records on the paper's film (h = 2 mm, E = 2.2 MPa, R = 130 mm, P_L = 200 N/m) over
 x in [-10, 10] mm, 401 samples (step 0.05 mm), white Gaussian noise of sd = (noise) x the peak
@@ -32,7 +32,10 @@ of each component, one record per seed:
    warm-up (auto, not propagated) before each record's runs: the first row's is the
    process's first inversion (it pays the inverse's lazy imports).
 
-Writes inverse_calibration.csv (one row per record), inverse_summary.csv (means over seeds),
+5. noise_free: the three truths, both views, with no noise and 0.01 % and 0.1 % (seed 7), the
+   default prior: L2, coverage, z of P and Q, the contact edges' errors against their sd.
+
+Writes inverse_noise_free.csv, inverse_calibration.csv (one row per record), inverse_summary.csv (means over seeds),
 inverse_sweep.csv, inverse_routes.csv, inverse_speed.csv, inverse_example.csv (a record a new
 user can invert: ``spectral-contact invert DIR/inverse_example.csv``) and inverse.png.
 """
@@ -51,7 +54,9 @@ from spectral_contact.instruments.sensor import sensor_profiles
 from ._common import parse, table, write_rows
 
 X = np.arange(-10e-3, 10e-3 + 1e-9, 0.05e-3)
-PARTS = ("calibration", "sweep", "routes", "speed", "figure")
+PARTS = ("calibration", "sweep", "routes", "speed", "figure", "noise_free")
+NOISE_FREE_LEVELS = (0.0, 1e-4, 1e-3)
+"""Noise levels of the ``noise_free`` part: none, 0.01 %, 0.1 % of each component's peak."""
 
 
 def truth(case: str, thickness: float = 0.002):
@@ -260,6 +265,25 @@ def main(argv=None) -> int:
                    "inverse: error and coverage against noise and a/h (amontons case)")
         table(summarise(sweep, ("sweep", "view", "noise", "a_over_h")), out / "inverse_sweep_summary.csv",
               "inverse: means over seeds against noise and contact half-width / h")
+    if "noise_free" in parts:
+        # 5. noise-free and nearly noise-free records, default prior (the model-error floor)
+        nf = []
+        for case in cases:
+            x, p = truths[case][0], truths[case][1]
+            a, b = x[p > 0].min(), x[p > 0].max()
+            for view in ("base", "sensor"):
+                for noise in NOISE_FREE_LEVELS:
+                    zz, xz = record(truths[case], view, noise, 7)
+                    inv = invert_line(X, zz, xz, view=view)
+                    s_ = inv.summary()
+                    (lo, hi), (slo, shi) = s_["contact_interval_m"], s_["contact_interval_sigma_m"]
+                    nf.append({"case": case, "view": view, "noise": noise,
+                               **score(truths[case], inv),
+                               "edge_left_err_mm": (lo - a) * 1e3, "edge_left_sd_mm": slo * 1e3,
+                               "edge_right_err_mm": (hi - b) * 1e3, "edge_right_sd_mm": shi * 1e3})
+        table(nf, out / "inverse_noise_free.csv",
+              "inverse, default prior, noise-free and 0.01 / 0.1 % noise records (seed 7): L2, "
+              "coverage, z of P and Q, the contact edges' errors and sd")
     if "routes" in parts:
         # 3. routes: the paper's two integrals against the local route (sensor view, 1 % noise)
         routes = []
