@@ -33,7 +33,8 @@ of each component, one record per seed:
    process's first inversion (it pays the inverse's lazy imports).
 
 5. noise_free: the three truths, both views, with no noise and 0.01 % and 0.1 % (seed 7), the
-   default prior: L2, coverage, z of P and Q, the contact edges' errors against their sd.
+   default prior: L2, coverage, z of P and Q, the contact edges' errors against their sd; and
+   noise-free base records of the amontons scene with h = 1, 4 mm, mu = 0.3, 2, load 60 N/m.
 
 Writes inverse_noise_free.csv, inverse_calibration.csv (one row per record), inverse_summary.csv (means over seeds),
 inverse_sweep.csv, inverse_routes.csv, inverse_speed.csv, inverse_example.csv (a record a new
@@ -57,6 +58,10 @@ X = np.arange(-10e-3, 10e-3 + 1e-9, 0.05e-3)
 PARTS = ("calibration", "sweep", "routes", "speed", "figure", "noise_free")
 NOISE_FREE_LEVELS = (0.0, 1e-4, 1e-3)
 """Noise levels of the ``noise_free`` part: none, 0.01 %, 0.1 % of each component's peak."""
+NOISE_FREE_SCENES = ({"thickness": 0.001}, {"thickness": 0.004}, {"mu": 0.3}, {"mu": 2.0},
+                     {"load": 60.0})
+"""Further noise-free base records of the ``noise_free`` part: the exact model's solve at these
+changes of the amontons scene (load 200 N/m, mu 1, h 2 mm)."""
 
 
 def truth(case: str, thickness: float = 0.002):
@@ -281,6 +286,21 @@ def main(argv=None) -> int:
                                **score(truths[case], inv),
                                "edge_left_err_mm": (lo - a) * 1e3, "edge_left_sd_mm": slo * 1e3,
                                "edge_right_err_mm": (hi - b) * 1e3, "edge_right_sd_mm": shi * 1e3})
+        # the exact model's own noise-free base records at other scenes (amontons)
+        for kw in NOISE_FREE_SCENES:
+            r = solve(**{"load": 200.0, "mu": 1.0, **kw})
+            tr = (r.x_m, r.pressure_Pa, r.surface_shear_Pa, r.base_sigma_zz_Pa,
+                  r.base_sigma_xz_Pa, float(np.sum(r.pressure_Pa) * (r.x_m[1] - r.x_m[0])),
+                  float(np.sum(r.surface_shear_Pa) * (r.x_m[1] - r.x_m[0])))
+            zz, xz = record(tr, "base", 0.0, 7)
+            inv = invert_line(X, zz, xz, thickness=r.scene.thickness)
+            s_ = inv.summary()
+            (a, b), = r.contact_intervals_m
+            (lo, hi), (slo, shi) = s_["contact_interval_m"], s_["contact_interval_sigma_m"]
+            nf.append({"case": "amontons " + " ".join(f"{k}={v:g}" for k, v in kw.items()),
+                       "view": "base", "noise": 0.0, **score(tr, inv),
+                       "edge_left_err_mm": (lo - a) * 1e3, "edge_left_sd_mm": slo * 1e3,
+                       "edge_right_err_mm": (hi - b) * 1e3, "edge_right_sd_mm": shi * 1e3})
         table(nf, out / "inverse_noise_free.csv",
               "inverse, default prior, noise-free and 0.01 / 0.1 % noise records (seed 7): L2, "
               "coverage, z of P and Q, the contact edges' errors and sd")
