@@ -278,3 +278,30 @@ def test_gross_sliding_carries_its_predecessors_load_step_estimate(sphere_pair):
         assert r.Q_over_muP[-1] == 1.0 and e[-2] > 0.0
         assert e[-1] >= e[-2]
         assert r.error_estimates[-1] >= e[-2]
+
+
+def test_newton_term_is_the_slip_along_the_new_direction():
+    """The slip rows' Newton term (``partial_slip._update``): the slip increment along the next
+    direction t = q/|q|, s . t (the exact linearisation of s x q = 0), floored at 0.1 |s|;
+    |s| (before) turned a node slipping at an angle to q by atan(sin(angle)) only."""
+    from spectral_contact.numerics import partial_slip as ps
+
+    n = 4
+    contact, stick = np.ones(n, dtype=bool), np.array([True, False, False, False])
+    ang = np.radians([0.0, 60.0, 100.0])
+    t = np.zeros((2, n))
+    t[0, 1:3] = 1.0
+    t[:, 3] = np.cos(ang[2]), np.sin(ang[2])  # (slipping along its t: it does not stick)
+    q = np.zeros((2, n))
+    q[0, 1:] = 1.0  # q along x: the next t is (1, 0) on the three slip nodes
+    p = np.full(n, 2.0)
+    u_prev, u = np.zeros((2, n)), np.zeros((2, n))
+    u[:, 1:] = -np.array([np.cos(ang), np.sin(ang)])  # s = delta - u: unit slips at 0, 60, 100 deg
+    fields = (p, q, np.zeros(n), u, 0.0, np.zeros(2), np.zeros(n))
+    (_, new_stick, new_t), (ds, newton, _), _ = ps._update(
+        (contact, stick, t), fields, np.zeros(2), u_prev, 0.5, False, np.array([1.0, 0.0]),
+        False, np.zeros(2))
+    assert np.allclose(np.hypot(*ds)[1:], 1.0)
+    assert new_stick[0] and not new_stick[1:].any()
+    assert np.allclose(new_t[:, 1:], [[1.0] * 3, [0.0] * 3])
+    assert np.allclose(newton[1:], [1.0, 0.5, 0.1])  # cos 0, cos 60, cos 100 floored at 0.1
