@@ -542,25 +542,29 @@ def _finish(op, prev, sets, result, P, Qv, mu, gross, qdir, accept, marginal, cy
         j = np.flatnonzero(stick)[0]
         q[:, j] = mu * p[j] * qdir
     off, slipn = ~contact, contact & ~stick
-    _, dsn = _unit(ds)
-    qu, qn = _unit(q)
+    # the friction law on the contact's nodes (p and q vanish elsewhere)
+    C = np.flatnonzero(contact)
+    dsC, pC, slipC = ds[:, C], p[C], slipn[C]
+    _, dsn = _unit(dsC)
+    qu, qn = _unit(q[:, C])
     pmax = max(float(p.max()), 1e-300)
-    ds_scale = max(float(dsn[contact].max()), float(np.sqrt(((delta - _vec(prev.delta, nd)) ** 2)
-                                                             .sum())), 1e-300)
-    along = (qu * ds).sum(axis=0)
+    ds_scale = max(float(dsn.max()) if C.size else 0.0,
+                   float(np.sqrt(((delta - _vec(prev.delta, nd)) ** 2).sum())), 1e-300)
+    along = (qu * dsC).sum(axis=0)
     if nd == 1:  # reverse slip (over the step's largest slip in the contact)
-        direction = float(max((-along)[slipn].max(), 0.0)) if slipn.any() else 0.0
+        direction = float(max((-along)[slipC].max(), 0.0)) if slipC.any() else 0.0
     else:  # slip against the shear or off its direction (not at gross sliding: there the slip
         # is unbounded along Q, this step's finite increment is not its direction), weighed by
         # p / p_max as the Coulomb excess is (over |mu| p_max): the shear it misdirects
-        direction = float(np.max((np.where(qn > 0, dsn - along, 0.0) * p / pmax)[slipn])) \
-            if slipn.any() and not gross else 0.0
+        direction = float(np.max((np.where(qn > 0, dsn - along, 0.0) * pC / pmax)[slipC])) \
+            if slipC.any() and not gross else 0.0
     res = {
         "linear": rel,
         "penetration": float(max(-gap[off].min(), 0.0)) / max(abs(d), 1e-300) if off.any()
         else 0.0,
         "tension": float(max(-p.min(), 0.0)) / pmax,
-        "coulomb": float(max((qn - mu * p).max(), 0.0)) / max(mu * pmax, 1e-300),
+        "coulomb": float(max((qn - mu * pC).max() if C.size else 0.0, 0.0))
+        / max(mu * pmax, 1e-300),
         "slip_direction": direction / ds_scale,
         "load": abs(cell * p.sum() - P) / P,
         "tangential_load": float(np.sqrt(((cell * q.sum(axis=1) - Qv) ** 2).sum()))
@@ -593,9 +597,11 @@ def _finish(op, prev, sets, result, P, Qv, mu, gross, qdir, accept, marginal, cy
         return SlipState(p=p, q=q[0], w=w, u=u[0], d=d, delta=float(delta[0]), contact=contact,
                          stick=stick, sigma=np.sign(t[0]).astype(np.int8), Q=float(Qv[0]),
                          slip=slip[0], **info)
+    t = np.zeros_like(q)
+    t[:, C] = np.where(slipC, qu, 0.0)
     s = SlipState2D(p=p, q=q, w=w, u=u, d=d, delta=delta, contact=contact, stick=stick,
                     sigma=np.zeros(p.size, dtype=np.int8), Q=float(np.hypot(*Qv)), slip=slip,
-                    t=np.where(slipn, qu, 0.0), **info)
+                    t=t, **info)
     s.shape = op.grid.shape
     return s
 
