@@ -246,12 +246,19 @@ def test_sphere_loose_criteria_keep_the_answers():
         prev = a
 
 
-def test_row_pruned_transform_equals_the_full_one():
+@pytest.mark.parametrize("spare", [True, False])
+def test_row_pruned_transform_equals_the_full_one(spare, monkeypatch):
     """``PartialSlipOperator.transform`` with ``rows`` (the y-passes on a band of rows only)
     gives the full transform's result on the band, and ``full_output`` on every row: for two
-    bands in turn (the first band's rows must be cleared for the second), both symbols."""
+    bands in turn (the first band's rows must be cleared for the second), both symbols; with
+    the backward x-pass out of place (a spare buffer) and in place (large grids)."""
+    from spectral_contact.numerics import slip_operator
+
+    monkeypatch.setattr(slip_operator, "_SPARE_BYTES", 2 ** 40 if spare else 0)
+    monkeypatch.setattr(slip_operator, "_ROWS", {})
     g = Grid.centered((64, 64), (10.0, 10.0))
     op = PartialSlipOperator2D(g)
+    assert (op._rows.b is op._rows.o) is not spare
     r = op._plan[0]
     rng = np.random.default_rng(1)
     for rows, M in (((8, 24), op.M), ((30, 46), op.preconditioner(1.0)), ((30, 46), op.M)):
