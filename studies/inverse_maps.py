@@ -121,6 +121,14 @@ def score(tr, inv, x, y):
     out["prior"] = ch["chosen"]
     out["dlogev_contact_smooth"] = (ch["log_evidence"].get("contact", nan)
                                     - ch["log_evidence"]["smooth"])
+    out["log_evidence_contact"] = ch["log_evidence"].get("contact", nan)
+    reg = rec["regularisation"]
+    out["fit_iterations"] = reg.get("optimizer_iterations", nan)
+    out["fit_gradient_norm"] = reg.get("optimizer_gradient_norm", nan)
+    out["fit_converged"] = float(bool(reg.get("optimizer_converged", False)))
+    out["fit_step_sd"] = reg.get("optimizer_step_sd", nan)
+    out["length_p_h"] = reg["length_p_h"]
+    out["length_q_h"] = reg["length_q_h"]
     out["a_eff_over_h"] = float(a / rec["thickness_m"])
     out["resolution_over_h"] = rec["resolution_length_m"] / rec["thickness_m"]
     out["nu"] = rec["regularisation"]["smoothness_nu"]

@@ -53,13 +53,14 @@ def _timed_pair(fe, fv, repeats: int = REPEATS):
 
 
 def _tols(text: str) -> tuple:
+    """'1e-3,1e-4' -> (1e-3, 1e-4); one line and exit 2 unless each is in (0, 0.1)."""
     try:
         tols = tuple(float(t) for t in text.split(","))
     except ValueError:
         tols = ()
     if not tols or not all(0.0 < t < 0.1 for t in tols):
-        raise SystemExit(print(f"--tol must be comma-separated numbers in (0, 0.1); got {text!r}",
-                               file=sys.stderr) or 2)
+        print(f"--tol must be comma-separated numbers in (0, 0.1); got {text!r}", file=sys.stderr)
+        raise SystemExit(2)
     return tols
 
 

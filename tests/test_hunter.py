@@ -49,11 +49,13 @@ def test_against_collocation(lr):
     assert abs(h["c"]) > 5 * s["dx"]  # a real offset
 
 
-@pytest.mark.parametrize("lr", [3e-3, 3e-2])
+@pytest.mark.parametrize("lr", [1e-4, 3e-3, 3e-2])
 def test_film_solver_follows_hunter(lr):
     """a/h = 0.01, tail l_r = V tau_r = 0.003 h and 0.03 h (0.3 a and 3 a): half-width, offset
     and mu_def within 0.5 % of Hunter (relative to each, the offset to itself).  With l_r of
-    order h the film and the half-space differ (studies/README, viscoelastic: 1 % at l_r = 0.14 h)."""
+    order h the film and the half-space differ (studies/README, viscoelastic: 1 % at l_r = 0.14 h).
+    l_r = 1e-4 h (0.01 a) takes the slow path: its mu_def was 7.6e-3 off with the first-order
+    centroid, 2.4e-4 with the second-order term (ViscoelasticFilm.slow_centroid_second_order)."""
     sls = ((2.2e6, 0.01),)  # E_1 = E_inf, tau 10 ms: tau_r = 20 ms, r = 1/2
     base = Scene(load=1.0, mu=0.0)
     s = Scene(load=P * base.stress_unit * base.length_unit, mu=0.0,
@@ -88,3 +90,19 @@ def test_film_converges_to_hunter_as_the_film_thickens():
     assert m1 > 5e-3 and m1 > 2 * est1  # the thin film is not Hunter's half-space (physical)
     assert m2 < 5e-3 and a2 < 5e-3 and c2 < 5e-3  # the thicker one is
     assert m1 / m2 > 3.3**1.5  # falling at least as (l_r/h)^1.5
+
+
+@pytest.mark.parametrize("r", [0.2, 0.5, 0.8])
+def test_second_order_of_the_slow_law(r):
+    """Hunter's closed form beyond the first-order slow law (a = a_H - delta/2, x_c = delta/2,
+    x_p = delta; delta = l_r - l): the second-order terms are x_c: -(1 + r)/8 delta l_r / a,
+    x_p: -(1 + r)/2 delta l_r / a, a: none ((1 + r)/2 delta l_r = m2 - delta^2/2, the
+    coefficient of (ik)^2 in R(k) exp(-ik delta); studies/README, viscoelastic, second order).
+    Fails if a second-order term of a appeared or the coefficients were others."""
+    lr = 0.005  # a_H = 1, l_r / a = 0.005: the third-order terms ~ 1e-3 of these
+    h = hunter_contact(2 * math.pi, r, lr)
+    delta = (1.0 - r) * lr
+    unit = delta * lr
+    assert (h["c"] - delta / 2) / unit == pytest.approx(-(1 + r) / 8, rel=1e-2)
+    assert (h["centroid"] - delta) / unit == pytest.approx(-(1 + r) / 2, rel=1e-2)
+    assert abs(h["a"] - (1.0 - delta / 2)) < 1e-2 * unit

@@ -245,6 +245,11 @@ def test_cli_outputs(good_npz, tmp_path, capsys):
         assert z["pressure_Pa"].shape == (N, N)
         assert np.allclose(z["x_m"], X)
     assert png.stat().st_size > 1000
+    reg = rec["regularisation"]
+    assert reg["prior_choice"]["chosen"] == "contact"  # its fit's convergence, reported
+    assert reg["optimizer_converged"] is True and reg["optimizer_iterations"] > 0
+    assert main(["invert", str(good_npz)]) == 0
+    assert "contact prior's fit: converged" in capsys.readouterr().out
     before = good_npz.read_bytes()
     assert main(["invert", str(good_npz), "--out", str(good_npz)]) == 2
     assert good_npz.read_bytes() == before

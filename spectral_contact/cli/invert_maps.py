@@ -63,6 +63,13 @@ def _text(args, rec, view) -> str:
         f"  noise sd zz {rec['noise_sd_zz_Pa']:.3g} Pa, xz {rec['noise_sd_xz_Pa']:.3g} Pa, "
         f"yz {rec['noise_sd_yz_Pa']:.3g} Pa (by evidence; log-evidence "
         f"{rec['log_evidence']:.2f})"]
+    if "optimizer_step_sd" in reg:  # the contact prior's fit (instruments.inverse_maps_contact)
+        state = ("converged" if reg["optimizer_converged"] else
+                 "NOT converged: the answer may move with rounding or the start")
+        lines.append(f"  contact prior's fit: {state} ({reg['optimizer_iterations']} iterations; "
+                     f"step left {reg['optimizer_step_sd']:.1g} sd of its hyperparameters)")
+    elif not reg.get("optimizer_converged", True):
+        lines.append("  smooth prior's fit: NOT converged (its optimiser stopped early)")
     laws = rec["laws"]
     from ..instruments.inverse_laws import best_line, law_lines
 

@@ -191,19 +191,27 @@ def _smooth_posterior(M, Y, shape, steps, ds, smoothness, say, logscale):
 
 
 def _contact_posterior(M, Y, shape, steps, smooth, say, logscale):
-    from .inverse_maps_contact import PRIOR_NAMES, fit_contact, propagate
+    from .inverse_maps_contact import (
+        CONVERGED_STEP_SD,
+        OPT_GTOL,
+        PRIOR_NAMES,
+        fit_contact,
+        propagate,
+        remaining_step,
+    )
 
     nx, ny = shape
     tot = smooth.mean.sum(axis=(1, 2))
     nrm = math.hypot(tot[1], tot[2])
     e = (tot[1] / nrm, tot[2] / nrm) if nrm > 0 else (1.0, 0.0)
     mu_start = nrm / tot[0] if tot[0] > 0 else 0.0
-    prior, th, s_out, logev, opt = fit_contact(
+    prior, th, s_out, logev, fit = fit_contact(
         M, Y, shape, steps, smooth.noise, e, smooth.mean[0], math.sqrt(smooth.var[0, 0, 0]),
         mu_start, progress=say)
     mean, var, C0, Z, (bx, by), Zsum = prior.posterior(th, s_out)
     say("contact prior: the hyperparameters' uncertainty (Laplace)")
     J, Sig, sd_th = propagate(prior, th, s_out)
+    step_sd, converged = remaining_step(fit, Sig, sd_th)
     var = var + np.einsum("fxyi,ij,fxyj->fxy", J, Sig, J)
     Jsum = J.sum(axis=(1, 2))                                   # (3, 8)
     N = nx * ny
@@ -236,7 +244,19 @@ def _contact_posterior(M, Y, shape, steps, smooth, say, logscale):
            "mu0": float(th[6]), "direction": [float(e[0]), float(e[1])],
            "amplitude_scaled": float(math.exp(th[4])), "nugget_scaled": float(s_out),
            "chosen_by": "maximum evidence (Woodbury on the ellipse's unknowns, exact)",
-           "optimizer_converged": bool(opt.success),
+           "optimizer_converged": converged,
+           "optimizer_iterations": fit["iterations"],
+           "optimizer_rounds": fit["rounds"],
+           "optimizer_gradient_norm": fit["gradient_norm"],
+           "optimizer_step_sd": step_sd,
+           "optimizer_message": fit["message"],
+           "optimizer_rule": f"L-BFGS-B with the analytic gradient of the log-evidence "
+                             f"(stops at a projected gradient <= {OPT_GTOL:g} or when the "
+                             f"evidence stops changing), alternating with the nugget's choice "
+                             f"until it settles; converged: the nugget settled and the Newton "
+                             f"step left at the end (Laplace covariance times the projected "
+                             f"gradient) <= {CONVERGED_STEP_SD:g} of each hyperparameter's sd "
+                             f"(optimizer_step_sd)",
            "hyperparameter_sd": dict(zip(PRIOR_NAMES, map(float, sd_th)))}
     return _Posterior(name="contact", mean=mean, var=var, tot=tot_cov, cov=cov,
                       resolve=resolve, psf=smooth.psf, noise=smooth.noise, logev=logev, reg=reg,

@@ -21,7 +21,12 @@ edge carried by W at the cells' own resolution.
 
 The eight hyperparameters (c_x, c_y, log a_x, log a_y, log s_p, log l_p, mu0, log l_r) maximise
 the evidence with the nugget s_out and the noise fixed (the noise at the stationary fit's
-values, which 3 N samples determine; s_out by a one-dimensional maximisation afterwards).
+values, which 3 N samples determine; s_out chosen among decades at the end point, the fit
+repeated until that choice settles).  l_p is at most the contact's width (``LP_MAX_WIDTH``).
+The fit runs to convergence with the analytic gradient below (L-BFGS-B), and reports it: the
+Newton step its end point leaves, in each hyperparameter's Laplace sd (``remaining_step``).
+(It used to stop after 15 + 8 iterations with differenced gradients, 9-18 nats below the
+maximum on the study's records, so that a change of rounding moved its answers.)
 
 Evidence and posterior.  The nugget's part is stationary: S0(k) = s_out^2 M M^H + D per mode.
 The window's part has few unknowns (g on the lattice, tau): with U the cells-from-unknowns map
@@ -36,6 +41,13 @@ posterior of the residual data.  So the tractions' posterior mean is U g + R0 (y
 their covariance C0 + T U Sigma_g U^T T^T, with R0 = s_out^2 M^H S0^-1 M, T = I - R0 and C0 =
 s_out^2 T (per mode): the pointwise variance is C0's (the same everywhere) plus the window's
 part, large where the contact's shape leaves the tractions uncertain.
+
+Gradient.  With Sigma = L B^-1 L^T and m = Sigma v (the unknowns' posterior covariance and
+mean), the prior's covariance K = L L^T (s_p, l_p, l_r) enters as d log Z = (a^T dK a -
+tr(W dK)) / 2 with a = v - G m, W = G - G Sigma G, and U (the ellipse through w and I, and
+mu0) as d log Z = <dU, R> (Frobenius) with R = b m^T - Gc U (m m^T + Sigma), b the cells'
+M^H S0^-1 y and Gc the cells' M^H S0^-1 M.  A value with its gradient costs ~1.8 values
+(with forward differences: 9).
 """
 from __future__ import annotations
 
@@ -58,19 +70,43 @@ _ROUND = 0.1
 _SUPER = 1.5
 """The ellipse may grow to this factor of its initial semi-axes (the lattice covers it)."""
 _JITTER = 1e-9
-ITERATIONS = (15, 8)
-"""L-BFGS-B iterations before and after the nugget's choice."""
+OPT_GTOL = 1e-3
+"""The fit stops when no component of the log-evidence's projected gradient exceeds this (nats
+per unit of theta: h for the centre, 1 for the logs and mu0)."""
+OPT_FTOL = 1e-15
+"""L-BFGS-B's relative-decrease test, set below what the evidence's rounding (~1e-16 of its
+~1e5 nats) resolves, so that the gradient test decides."""
+OPT_MAXITER = 300
+"""L-BFGS-B iterations per round at most."""
+CONVERGED_STEP_SD = 0.02
+"""The fit counts as converged when the Newton step Sigma_theta g that its end point leaves (g
+the projected gradient, Sigma_theta the Laplace covariance of ``propagate``) is at most this
+fraction of each hyperparameter's sd (``remaining_step``), and the nugget's choice settled.
+(The gradient alone is no measure: the ellipse's curvature is ~1e6 per h^2, where a gradient
+of 1e-3 is a step of 1e-9 h and the evidence's rounding leaves ~1e-2.)"""
+NUGGET_ROUNDS = 4
+"""Rounds of (fit over theta, nugget's choice) at most."""
+LP_MAX_WIDTH = 2.0
+"""p's length l_p is at most this many times the starting ellipse's mean semi-axis (the
+contact's width), as the line inverse's (``inverse_prior.LP_MAX_WIDTH``, same reason): on an
+ellipse of semi-axis a a Matern process of length l >> a is a constant plus terms of prior
+variance ~ (a/l)^(2k), so longer lengths only turn p into the parametric Hertz shape, which a
+sliding contact's pressure on a film is not; the converged fit went there (l_p 3-4 h on the
+studies' a = 1.35 h) and its bands lost coverage (studies/README, inverse_maps).  l_r is not
+capped (as for lines)."""
 NUGGET_DECADES = 4
 """The nugget sd is chosen by evidence among s0, s0/10, ... (this many values; s0 the
 stationary fit's pointwise sd)."""
 _REACH = 8.0
+"""Cells where z > -_REACH eps (w > ~1e-2 of its centre value) carry the window's part."""
+_TAPER = 2.0
+"""w and I fall to zero over the outermost ``_TAPER`` eps of the active band (``window``)."""
 _UG_KEEP = 12
-"""``ContactMapPrior._projected`` keeps this many (U, G, v) (~0.3 MB each on the studies'
-records)."""
+"""``ContactMapPrior._projected`` keeps this many (U, G, v) (~1 MB each on the studies'
+records), and Gc U for the last one (for the gradient at the point just evaluated)."""
 LAG_TABLE_MAX_CELLS = 4000
 """Up to this many reachable cells the lags between them are tabulated once (int32, at most
 64 MB; 990 cells on the studies' 160^2 sphere records)."""
-"""Cells where z > -_REACH eps (w > ~1e-2 of its centre value) carry the window's part."""
 
 
 def _matern52(d, length):
@@ -212,14 +248,44 @@ class ContactMapPrior:
         return 0.5 * (Gc + Gc.T)
 
     # -- the window's part -------------------------------------------------------------------
-    def window(self, th):
-        """w and I on the reachable cells, and the active cells (w above ~1e-2 of its peak)."""
+    def window(self, th, deriv=False):
+        """w and I on the reachable cells, and the active cells (z > -``_REACH`` eps, where w
+        is ~2e-2 sqrt(eps) of its centre value).  Both are tapered to zero over the outermost
+        ``_TAPER`` eps of that band (a C^1 smoothstep), so that a cell enters the active set
+        with zero weight: the evidence is then continuous (C^1) in the ellipse, as a
+        gradient-based fit needs (it jumped by ~2e-2 nats when a cell entered, on the study's
+        amontons sensor record seed 3; now its second differences at those points are those of
+        its curvature, ~1e-4).
+        ``deriv``: also d w / d theta[0:4] and d I / d theta[0:4] on the active cells
+        (4, n_a) each."""
         cx, cy = th[0], th[1]
         ax, ay = math.exp(th[2]), math.exp(th[3])
-        z = 1.0 - ((self.cx_ - cx) / ax) ** 2 - ((self.cy_ - cy) / ay) ** 2
+        X, Y = (self.cx_ - cx) / ax, (self.cy_ - cy) / ay
+        z = 1.0 - X * X - Y * Y
         eps = _ROUND * 2.0 * max(self.steps) / min(ax, ay)
         active = np.nonzero(z > -_REACH * eps)[0]
-        return np.sqrt(_softplus(z, eps)), _logistic(z / eps), active
+        sp = _softplus(z, eps)
+        sig = _logistic(z / eps)
+        zeta = np.clip((z + _REACH * eps) / (_TAPER * eps), 0.0, 1.0)
+        taper = zeta * zeta * (3.0 - 2.0 * zeta)
+        root = np.sqrt(sp)
+        w, ind = taper * root, taper * sig
+        if not deriv:
+            return w, ind, active
+        a = active
+        X, Y, z, sp, sig, zeta, taper, root = (v[a] for v in (X, Y, z, sp, sig, zeta, taper,
+                                                               root))
+        dz = np.stack([2.0 * X / ax, 2.0 * Y / ay, 2.0 * X * X, 2.0 * Y * Y])
+        # eps = c / min(ax, ay): d eps / d log a = -eps for the smaller semi-axis
+        de = np.array([0.0, 0.0, -eps if ax <= ay else 0.0, -eps if ax > ay else 0.0])[:, None]
+        dsp = sig * dz + (sp / eps - z / eps * sig) * de
+        dsig = sig * (1.0 - sig) * (dz / eps - z / eps**2 * de)
+        inner = zeta < 1.0
+        dzeta = np.where(inner, (dz + _REACH * de) / (_TAPER * eps) - zeta * de / eps, 0.0)
+        dtaper = 6.0 * zeta * (1.0 - zeta) * dzeta
+        dw = dtaper * root + taper * dsp / (2.0 * root)
+        dind = dtaper * sig + taper * dsig
+        return w, ind, active, dw, dind
 
     def U(self, th):
         """(U on the active cells' rows (3 n_a) and the active lattice nodes' columns, active
@@ -261,10 +327,11 @@ class ContactMapPrior:
         return np.concatenate([act, act + n, act + 2 * n])
 
     def _projected(self, th, st):
-        """(U, active cells, active nodes, G = U^T Gc U, v = U^T b) at theta: they depend on
+        """(U, active cells, active nodes, G = U^T Gc U, v = U^T b, Gc U) at theta: they depend on
         the ellipse and mu0 (theta[0:4], theta[6]) only, so they are kept for the last few
-        of those (``_UG_KEEP``): the finite-difference gradient's steps in s_p, l_p, l_r reuse
-        its centre's (3 of its 9 evaluations; U^T Gc U is half of an evaluation's time)."""
+        of those (``_UG_KEEP``): the Laplace step's differences in s_p, l_p, l_r reuse their
+        centre's (U^T Gc U is half of an evaluation's time); Gc U (None in all but the last
+        entry) is for the gradient."""
         key = (id(st), np.asarray(th, float)[[0, 1, 2, 3, 6]].tobytes())
         hit = self._ug.get(key)
         if hit is not None:
@@ -281,12 +348,14 @@ class ContactMapPrior:
         v = U.T @ st["bw"][self._rows(act)]
         if len(self._ug) >= _UG_KEEP:
             self._ug.pop(next(iter(self._ug)))
-        self._ug[key] = out = (U, act, nodes, G, v)
+        for k, old in self._ug.items():  # Gc U (3 n_a x ~350, ~8 MB) kept for the last only
+            self._ug[k] = old[:5] + (None,)
+        self._ug[key] = out = (U, act, nodes, G, v, GU)
         return out
 
     def _core(self, th, s_out):
         st = self._stationary(s_out)
-        U, act, nodes, G, v = self._projected(th, st)
+        U, act, nodes, G, v, _ = self._projected(th, st)
         parts = self.Lchol(th, nodes, blocks=True)
         from scipy.linalg import block_diag
 
@@ -303,14 +372,62 @@ class ContactMapPrior:
         t = np.linalg.solve(cB, L.T @ v)
         return st, (U, act), L, cB, v, t
 
-    def evidence(self, th, s_out):
+    def evidence(self, th, s_out, grad=False):
+        """The log-evidence at theta (nugget sd s_out fixed) [, its gradient in theta (8,)]
+        (-1e300 [, zeros] where B is not positive definite)."""
         try:
             st, U, L, cB, v, t = self._core(th, s_out)
         except np.linalg.LinAlgError:
-            return -1e300
+            return (-1e300, np.zeros(len(th))) if grad else -1e300
         quad = st["quad"] - float(t @ t)
         logdet = st["logdet"] + 2.0 * float(np.sum(np.log(np.diag(cB))))
-        return -0.5 * (quad + logdet) - 1.5 * self.N * math.log(2 * math.pi)
+        value = -0.5 * (quad + logdet) - 1.5 * self.N * math.log(2 * math.pi)
+        if not grad:
+            return value
+        return value, self._gradient(th, s_out, L, cB, t)
+
+    def _gradient(self, th, s_out, L, cB, t):
+        """d log-evidence / d theta from the Woodbury form (module docstring, Gradient)."""
+        from scipy.linalg import solve_triangular
+
+        st = self._stationary(s_out)
+        U, act, nodes, G, v, GU = self._projected(th, st)
+        if GU is None:
+            GU = (U.T @ self._gram(st["kern"], act)).T
+        F = L @ solve_triangular(cB.T, np.eye(cB.shape[0]), lower=False)
+        Sig = F @ F.T                          # posterior covariance of the unknowns
+        m = F @ t                              # their posterior mean, Sig v
+        g = np.zeros(len(th))
+        # the prior's covariance K (s_p, l_p, l_r): 0.5 (a^T dK a - tr(W dK))
+        a = v - G @ m
+        W = G - G @ Sig @ G
+        s = math.exp(th[4])
+        mn = nodes.size
+        d = self.dist[np.ix_(nodes, nodes)]
+        K = L @ L.T
+        g[4] = 0.5 * (a @ (2.0 * K) @ a - float(np.sum(W * (2.0 * K))))
+        for k, blocks in ((5, (0,)), (7, (1, 2))):
+            r = math.sqrt(5.0) * d / math.exp(th[k])
+            dC = s * s * (r * r / 3.0) * (1.0 + r) * np.exp(-r)   # d K_block / d log l
+            for b in blocks:
+                sl = slice(b * mn, (b + 1) * mn)
+                ab = a[sl]
+                g[k] += 0.5 * (ab @ dC @ ab - float(np.sum(W[sl, sl] * dC)))
+        # U (the ellipse and mu0): d log Z = <dU, R>, R = b m^T - Gc U (m m^T + Sig)
+        n = act.size
+        R = np.outer(st["bw"][self._rows(act)], m) - GU @ (np.outer(m, m) + Sig)
+        Rp, Rx, Ry = R[:n], R[n:2 * n], R[2 * n:]
+        P = self.P[act][:, nodes]
+        ex, ey = self.e
+        w, _, _, dw, dind = self.window(th, deriv=True)
+        gp, gx, gy = slice(0, mn), slice(mn, 2 * mn), slice(2 * mn, 3 * mn)
+        mixed = ex * Rx[:, gp] + ey * Ry[:, gp]
+        Dw = np.asarray(P.multiply(Rp[:, gp] + th[6] * mixed + Rx[:, gx] + Ry[:, gy])
+                        .sum(axis=1)).ravel()
+        Dind = Rx[:, 3 * mn] + Ry[:, 3 * mn + 1]
+        g[:4] = dw @ Dw + dind @ Dind
+        g[6] = float(w[act] @ np.asarray(P.multiply(mixed).sum(axis=1)).ravel())
+        return g
 
     # -- the posterior -------------------------------------------------------------------------
     def _embed(self, cols, act):
@@ -396,45 +513,87 @@ class ContactMapPrior:
         return Ug + np.fft.irfft2(np.moveaxis(corr, -1, 0), s=self.shape, axes=(1, 2))
 
 
-def fit_contact(M, Y, shape, steps, noise, e, p_start, s_out0, mu_start, progress=None):
-    """Maximise the contact prior's evidence (module docstring).  p_start: a pressure estimate
-    (scaled) for the starting ellipse; s_out0: the starting nugget sd; mu_start: Q/P.  Returns
-    (prior, theta, s_out, log_evidence, optimizer result)."""
+def _maximise(prior, th0, s_out, lo, hi):
+    """L-BFGS-B with the analytic gradient from th0 at the nugget s_out; stops when the
+    projected gradient is below ``OPT_GTOL`` (or after ``OPT_MAXITER`` iterations).  Returns
+    (theta, log-evidence, gradient, iterations, L-BFGS-B's message) of the best point
+    evaluated."""
     from scipy.optimize import minimize
 
+    best = [th0, -np.inf, np.zeros(len(th0))]
+
+    def f(z):
+        v, g = prior.evidence(z, s_out, grad=True)
+        if not v > -1e299:
+            return 1e300, np.zeros(z.size)
+        if v > best[1]:
+            best[:] = [z.copy(), v, g]
+        return -v, -g
+
+    res = minimize(f, th0, jac=True, method="L-BFGS-B", bounds=list(zip(lo, hi)),
+                   options={"maxiter": OPT_MAXITER, "ftol": OPT_FTOL, "gtol": OPT_GTOL,
+                            "maxls": 40})
+    return best[0], best[1], best[2], int(res.nit), str(res.message)
+
+
+def fit_contact(M, Y, shape, steps, noise, e, p_start, s_out0, mu_start, progress=None,
+                start=None):
+    """Maximise the contact prior's evidence (module docstring).  p_start: a pressure estimate
+    (scaled) for the starting ellipse; s_out0: the starting nugget sd; mu_start: Q/P; start:
+    None, or a theta to start from instead of the default (clipped to the search's bounds).
+    Alternates a maximisation over theta (``_maximise``) with the nugget's choice at its end
+    point until the nugget stays (at most ``NUGGET_ROUNDS`` rounds).  Returns (prior, theta,
+    s_out, log_evidence, fit) with fit = {iterations, gradient_norm (the projected gradient's
+    largest component at theta), gradient (8,: the projected one), rounds, nugget_settled,
+    message (L-BFGS-B's last), converged: the gradient norm at most ``OPT_GTOL`` and the
+    nugget settled (``remaining_step`` gives the rule the result reports)}."""
     say = progress or (lambda s: None)
     geom = start_geometry(p_start, steps)
     cx, cy, ax, ay = geom
     prior = ContactMapPrior(M, Y, shape, steps, noise, e, geom)
-    pk = float(np.max(p_start))
-    dmin = max(steps)
-    th0 = np.array([cx, cy, math.log(ax), math.log(ay), math.log(pk), math.log(0.7 * ax),
-                    mu_start, math.log(0.7 * ax)])
-    lo = np.array([cx - 0.3 * ax, cy - 0.3 * ay, math.log(max(0.5 * ax, 2 * dmin)),
-                   math.log(max(0.5 * ay, 2 * dmin)), math.log(1e-3 * pk),
-                   math.log(max(0.3 * ax, 2 * dmin)), mu_start - 3.0, math.log(max(0.3 * ax,
-                                                                                   2 * dmin))])
-    hi = np.array([cx + 0.3 * ax, cy + 0.3 * ay, math.log(1.2 * ax), math.log(1.2 * ay),
-                   math.log(1e2 * pk), math.log(20.0), mu_start + 3.0, math.log(20.0)])
+    lo, hi = _bounds(geom, float(np.max(p_start)), max(steps), mu_start)
+    th = np.array([cx, cy, math.log(ax), math.log(ay), math.log(float(np.max(p_start))),
+                   math.log(0.7 * ax), mu_start, math.log(0.7 * ax)])
+    if start is not None:
+        th = np.clip(np.asarray(start, float), lo, hi)
     s_out = s_out0
-    th = th0
-    res = None
-    for rnd, (iters, nug) in enumerate(((ITERATIONS[0], True), (ITERATIONS[1], False))):
+    iters, settled = 0, False
+    for rnd in range(NUGGET_ROUNDS):
         say(f"contact prior: evidence over the ellipse and the fields (round {rnd + 1})")
-        res = minimize(lambda z: -prior.evidence(z, s_out), th, method="L-BFGS-B",
-                       bounds=list(zip(lo, hi)),
-                       options={"maxiter": iters, "ftol": 1e-10, "eps": 1e-4})
-        th = res.x
-        if not nug:
-            break
+        th, value, grad, nit, message = _maximise(prior, th, s_out, lo, hi)
+        iters += nit
+        say(f"contact prior: round {rnd + 1}: {nit} iterations, {message}")
         say("contact prior: evidence over the nugget")
         cands = [s_out0 * 10.0 ** (-k) for k in range(NUGGET_DECADES)]
         evs = [prior.evidence(th, s) for s in cands]
         s_new = cands[int(np.argmax(evs))]
         if s_new == s_out:
+            settled = True
             break
-        s_out = s_new
-    return prior, th, s_out, prior.evidence(th, s_out), res
+        if rnd + 1 < NUGGET_ROUNDS:
+            s_out = s_new   # else theta stays fitted at s_out: reported as not converged
+    if not value > -1e299:
+        raise np.linalg.LinAlgError("the contact prior's evidence could not be evaluated")
+    pg = np.clip(th + grad, lo, hi) - th
+    gnorm = float(np.max(np.abs(pg)))
+    fit = {"iterations": iters, "rounds": rnd + 1, "gradient_norm": gnorm,
+           "gradient": pg, "nugget_settled": settled, "message": message,
+           "converged": bool(settled and gnorm <= OPT_GTOL)}
+    return prior, th, s_out, value, fit
+
+
+def _bounds(geom, pk, dmin, mu_start):
+    """The search box of theta around the starting ellipse (cx, cy, ax, ay), the pressure
+    estimate's peak pk and Q/P."""
+    cx, cy, ax, ay = geom
+    lo = np.array([cx - 0.3 * ax, cy - 0.3 * ay, math.log(max(0.5 * ax, 2 * dmin)),
+                   math.log(max(0.5 * ay, 2 * dmin)), math.log(1e-3 * pk),
+                   math.log(max(0.3 * ax, 2 * dmin)), mu_start - 3.0,
+                   math.log(max(0.3 * ax, 2 * dmin))])
+    lp_max = min(20.0, LP_MAX_WIDTH * 0.5 * (ax + ay))
+    hi = np.array([cx + 0.3 * ax, cy + 0.3 * ay, math.log(1.2 * ax), math.log(1.2 * ay),
+                   math.log(1e2 * pk), math.log(lp_max), mu_start + 3.0, math.log(20.0)])
+    return lo, hi
 
 
 LAPLACE_STEPS = (0.01, 0.01, 0.005, 0.005, 0.02, 0.05, 0.02, 0.05)
@@ -467,3 +626,10 @@ def propagate(prior, th, s_out):
                    - prior.mean_of(th - E[i], s_out, prior.Y)) / (2.0 * hs[i])
                   for i in range(n)], -1)
     return J, Sig, np.sqrt(np.diag(Sig))
+
+
+def remaining_step(fit, Sig, sd):
+    """The largest |(Sigma_theta g)_i| / sd_i at the fit's end point (``CONVERGED_STEP_SD``),
+    and whether the fit converged by that rule."""
+    step = float(np.max(np.abs(Sig @ fit["gradient"]) / sd))
+    return step, bool(fit["nugget_settled"] and step <= CONVERGED_STEP_SD)
