@@ -1,7 +1,7 @@
 """Inverse, surfaces: a sliding sphere's base maps back to its tractions (issue 21, study part 3).
 
-    python -m studies.inverse_maps [--quick] [--out DIR] [--seeds N] [--prior auto|contact|smooth]
-                                   [--speed]
+    python -m studies.inverse_maps [--quick] [--out DIR] [--seeds N] [--first-seed K]
+                                   [--prior auto|contact|smooth] [--speed]
 
 Truths: the package's own sliding-sphere solves on the paper's film (h = 2 mm, E = 2.2 MPa,
 R = 130 mm, F = 1 N, sliding toward +x), on the solver's periodic grid of 160 x 160 points
@@ -240,6 +240,8 @@ def main(argv=None) -> int:
     def extra(p):
         p.add_argument("--seeds", type=int, default=None,
                        help="noise seeds per case (10; --quick 2)")
+        p.add_argument("--first-seed", type=int, default=0,
+                       help="the first noise seed (held-out runs: e.g. 10 with --seeds 10)")
         p.add_argument("--prior", choices=("auto", "contact", "smooth"), default="auto",
                        help="the inversion's prior (auto: the higher evidence)")
         p.add_argument("--speed", action="store_true",
@@ -260,7 +262,7 @@ def main(argv=None) -> int:
     for case, view in cases:
         tr = truths[case]
         x, y = tr[1]["x_m"], tr[1]["y_m"]
-        for seed in range(seeds):
+        for seed in range(args.first_seed, args.first_seed + seeds):
             d = record(tr, view, 0.01, seed)
             c0 = time.process_time()
             inv = invert_maps(x, y, *d, thickness=0.002, view=view, prior=args.prior)

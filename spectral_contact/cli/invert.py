@@ -36,10 +36,10 @@ def register(subparsers) -> None:
                                                   "S_*_Pa [x, y], as solve --maps writes them)")
     _scene_options(p, ("thickness", "poisson"),
                    {"thickness": "base stresses do not depend on E or R"})
-    p.add_argument("--a-zz", type=_positive("--a-zz"), default=A_ZZ_MV_PER_BAR,
-                   help=f"A_zz [mV/bar] for U files ({A_ZZ_MV_PER_BAR:.2f})")
-    p.add_argument("--a-xz", type=_positive("--a-xz"), default=A_XZ_MV_PER_BAR,
-                   help=f"A_xz [mV/bar] for U files ({A_XZ_MV_PER_BAR:.2f})")
+    p.add_argument("--a-zz", type=_positive("--a-zz"), default=None,  # None: the paper's
+                   help=f"A_zz [mV/bar] for U files only ({A_ZZ_MV_PER_BAR:.2f})")
+    p.add_argument("--a-xz", type=_positive("--a-xz"), default=None,
+                   help=f"A_xz [mV/bar] for U files only ({A_XZ_MV_PER_BAR:.2f})")
     p.add_argument("--apparatus-zz", metavar="G.csv", default=None,
                    help="radial G_zz (columns r_m, G or G_per_m2) instead of the paper's; "
                         "S/U files only")
@@ -66,6 +66,10 @@ def _cmd_invert(args) -> int:
     import math
 
     if str(args.record).lower().endswith(".npz"):  # maps: instruments.inverse_maps
+        if args.a_zz is not None or args.a_xz is not None:
+            opt = "--a-zz" if args.a_zz is not None else "--a-xz"
+            raise InputError(f"{opt}: the gains apply to line records with U_zz_mV,U_xz_mV "
+                             f"columns only; {args.record} holds maps (no U_ columns)")
         from .invert_maps import cmd_invert_maps
 
         return cmd_invert_maps(args)

@@ -256,6 +256,13 @@ def _cmd_solve3d(args, scene) -> int:
                            **{"--profiles": args.profiles, "--plot": args.plot, "--maps": args.maps})
     r = solve(scene, model=args.model, method="fft", tol=args.tol, grid_points=args.grid_points,
               domain_length=args.domain_length)
+    if not r.tolerance_met:
+        from ..solvers.fft3d import default_tol
+
+        tol = args.tol if args.tol is not None else default_tol(scene)
+        print(f"warning: error estimate {r.error_estimate:.1e} > --tol {tol:g} at the fixed "
+              f"--grid-points {args.grid_points} (JSON: \"tolerance_met\": false); raise "
+              f"--grid-points or leave it automatic", file=sys.stderr)
     sensor = None
     if args.sensor:
         from ..instruments.sensor import sensor_maps

@@ -39,7 +39,7 @@ def register(subparsers) -> None:
     from .scene_options import add_scene_options
 
     p = subparsers.add_parser(
-        "onset", help="partial slip: the tangential load raised from 0 to mu P (line indenter)",
+        "onset", help="partial slip: the tangential load raised from 0 to mu P (lines and 3D indenters)",
         description="The normal load first (with friction acting, --loading), then the "
                     "tangential load Q raised from 0 to mu P in --steps equal steps, "
                     "quasi-static, with the slip history kept (incremental Coulomb friction). "

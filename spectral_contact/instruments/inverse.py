@@ -530,6 +530,10 @@ def read_record(path, A_zz_mV_per_bar: float | None = None, A_xz_mV_per_bar: flo
         names = ", ".join(c for k in present for c in _VIEWS[k][1:] if c in cols)
         raise InputError(f"{name}: mixes views ({names}); give one of {what}")
     kind = present[0]
+    if kind != "U" and (A_zz_mV_per_bar is not None or A_xz_mV_per_bar is not None):
+        raise InputError(f"{name}: the gains (--a-zz/--a-xz, A_zz_mV_per_bar/A_xz_mV_per_bar) "
+                         f"apply to U_zz_mV,U_xz_mV files only; this file holds "
+                         f"{','.join(_VIEWS[kind][1:])}: drop them")
     x = cols["x_m"]
     check_uniform(x, name, "x_m")
     zz, xz = cols[_VIEWS[kind][1]], cols[_VIEWS[kind][2]]

@@ -427,7 +427,8 @@ JSON_KEYS_3D = (
     "contact_radius_m", "contact_x_min_m", "contact_x_max_m",
     "contact_y_half_width_m", "pressure_centroid_x_m", "indentation_m", "max_pressure_Pa",
     "max_pressure_x_m", "max_pressure_y_m", "line_load_y0_N_per_m", "grid_points",
-    "domain_length_m", "iterations", "residual", "error_estimate", "wall_time_s", "plan_time_s",
+    "domain_length_m", "iterations", "residual", "error_estimate", "tolerance_met", "wall_time_s",
+    "plan_time_s",
 )
 """JSON keys of a 3D result (+ length_m for a cylinder, radius_x_m and radius_y_m for a
 paraboloid)."""

@@ -496,12 +496,13 @@ class OnsetResult(OnsetBase):
         else:
             ks = sorted({int(np.argmin(np.abs(r - s))) for s in shown if 0 < s <= 1} - {0})
         a_max = max(m["a"] + abs(m["c"]) for m in self.measures)
-        win = (np.abs(self.x) < a_max + 2.0)
+        win = (np.abs(self.x) < a_max + 2.0)  # the base stresses' reach (lengths in h)
+        wt = np.abs(self.x) < 1.5 * a_max  # the tractions: the contact
         ax = axs[0, 0]
         for k in [0] + ks:
             lab = f"Q/(mu P) = {self.Q_over_muP[k]:.2f}"
-            line, = ax.plot(x[win], self.pressure[k][win] * sc.stress_unit * kPa, lw=1, label=lab)
-            ax.plot(x[win], np.abs(self.shear[k][win]) * sc.stress_unit * kPa, lw=1, ls="--",
+            line, = ax.plot(x[wt], self.pressure[k][wt] * sc.stress_unit * kPa, lw=1, label=lab)
+            ax.plot(x[wt], np.abs(self.shear[k][wt]) * sc.stress_unit * kPa, lw=1, ls="--",
                     color=line.get_color())
         ax.set_xlabel("x [mm] (from the apex)")
         ax.set_ylabel("p (solid), |q| (dashed) [kPa]")

@@ -34,7 +34,7 @@ from ..physics.film import Film
 from ..physics.indenters import Paraboloid
 from ..physics.scene import Scene3D, check_tol
 from .base import check_onset_mu
-from .fft3d import MAX_POINTS_3D, MIN_POINTS_3D, solve_fft3d
+from .fft3d import MAX_POINTS_3D, MIN_POINTS_3D, _check_size, solve_fft3d
 from .onset_core import (
     LOADING_STEPS,
     Dimension,
@@ -211,6 +211,7 @@ def loading_runner(scene: Scene3D, path, tol: float, *, loading: str = "friction
         n = max(pow2_at_least(max(L) / dx, MIN_POINTS_3D), 2 * MIN_POINTS_3D)
     if n > MAX_POINTS_3D:
         raise InputError(f"tol {tol:g} needs more than {MAX_POINTS_3D} points per axis for onset")
+    _check_size((n, n), f"onset at tol {tol:g}")  # solve's memory estimate (a lower bound here)
     image = _IMAGE_AMPLITUDE * max(1.0, abs(mu) / 10.0) * math.exp(
         -film.decay_rate * max(min(L[0] - (hi - lo), L[1] - 2 * ey), 0.0))
 
