@@ -312,3 +312,31 @@ def test_newton_term_is_the_slip_along_the_new_direction():
     assert new_stick[0] and not new_stick[1:].any()
     assert np.allclose(new_t[:, 1:], [[1.0] * 3, [0.0] * 3])
     assert np.allclose(newton[1:], [1.0, 0.5, 0.1])  # cos 0, cos 60, cos 100 floored at 0.1
+
+
+def test_gross_sliding_at_small_mu_is_full_slip():
+    """Issue 22's 1 N sphere at mu 0.02: its gross-sliding step cycled between stick sets (1 and
+    16 nodes, a Coulomb violation 0.55, exit 3) on 256^2; the smallest loading found to do so
+    is this one (2 frictional loading steps, then Q = mu P at once; 128^2 and 192^2 ran).  At
+    Q = mu P Coulomb and the sum of q leave q = mu p along Q at every contact node: the
+    tractions are the steady ones, and delta is the least that lets no node slip against Q
+    (``numerics.partial_slip._gross_finish``)."""
+    from spectral_contact.physics.scene import Scene3D
+    from spectral_contact.solvers.onset3d import check_onset_scene3d, loading_runner
+
+    scene = check_onset_scene3d(Scene3D(indenter="sphere", force=1.0, mu=0.02))
+    run, _, _, steady, _ = loading_runner(scene, [1.0], 1e-2, loading_steps=2)
+    r = run(256)
+    before, s = r.loaded, r.states[-1]
+    mu, P = scene.mu, s.P
+    assert np.array_equal(s.q[0], np.where(s.contact, mu * s.p, 0.0)) and not s.q[1].any()
+    assert r.grid.cell * s.q[0].sum() == pytest.approx(mu * P, rel=1e-12)
+    ds = (s.delta - before.delta)[:, None] - (s.u - before.u)
+    scale = np.abs(ds[0, s.contact]).max()
+    assert ds[0, s.contact].min() >= -1e-12 * scale  # no node slips against Q
+    assert s.stick.sum() == 1 and abs(ds[0, s.stick][0]) <= 1e-12 * scale  # the last to stick
+    assert np.abs(ds[1, s.stick]).max() <= 1e-12 * scale
+    # the steady sliding state of ``solve`` (its own grid), to the default tol
+    m = r.measures[-1]
+    assert abs(m["radius"] * scene.length_unit - steady.contact_radius_m) \
+        <= 1e-2 * steady.contact_radius_m
