@@ -435,6 +435,7 @@ def solve_slip_step(op: PartialSlipOperator, f: np.ndarray, prev: SlipState, P: 
     balance : hold the loads exactly on the accepted solve (uniform shifts of p on the
             contact and of q on the stick nodes, of the order of the inner residual, and one
             product for the new displacements): equilibrium to round-off whatever ``rtol``.
+            (Gross sliding's step is always made exact: ``_gross_finish``.)
     Returns the new state (its ``slip``: the accumulated slip delta - u relative to where each
     node was when it came into contact, 0 off the contact).  ConvergenceError if the sets do
     not settle or the final residual exceeds ``accept``.
