@@ -112,7 +112,7 @@ from .inverse_forward import (  # noqa: F401  (re-exported)
     base_from_tractions,
 )
 from .inverse_laws import fit_laws
-from .inverse_prior import fit_contact, model_error_floor, propagate, regularisation_record
+from .inverse_prior import fit_contact, model_error_floor, propagate, regularisation_record, rounding_offset
 from .inverse_result import LineInversion
 
 __all__ = ["invert", "read_record", "invert_line", "LineInversion", "LineForward", "fit_laws",
@@ -215,17 +215,18 @@ def _mix_modes(ev, modes, free, hyper, h, known):
             _, (mk, ck, _) = ev.evaluate(th, full=True)
         means.append(mk)
         covs.append(ck)
-        windows.append(_window_interval(th, sig, idx, h, known))
+        windows.append(_window_interval(th, sig, idx, h, known, rounding_offset(ev.dt)))
     mbar = sum(w * mk for w, mk in zip(wts, means))
     cov = sum(w * (ck + np.outer(mk - mbar, mk - mbar)) for w, mk, ck in zip(wts, means, covs))
     return mbar, cov, windows, wts
 
 
-def _window_interval(theta, sig, idx, h, known):
-    """The contact prior's window [c - w0, c + w0] [m] and the sd of its two edges from the
+def _window_interval(theta, sig, idx, h, known, offset=0.0):
+    """The contact prior's window [c - w0, c + w0] [m], widened by ``offset`` [h] on each side
+    (the rounding's, ``inverse_prior.rounding_offset``), and the sd of its two edges from the
     Laplace covariance of (c, log w0) (NaN where not propagated or at a bound; 0 if known)."""
     c, w0 = float(theta[0]), math.exp(theta[1])
-    edges = [(c - w0) * h, (c + w0) * h]
+    edges = [(c - w0 - offset) * h, (c + w0 + offset) * h]
     if known is not None:
         return [known[0] * h, known[1] * h], [0.0, 0.0]
     if sig is None or 0 not in idx or 1 not in idx:
