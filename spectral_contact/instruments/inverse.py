@@ -65,8 +65,9 @@ the other hyperparameters' own uncertainty is added to first order at each profi
   covariance (Q/P by the first-order (delta) rule with the P-Q correlation);
 * pointwise sd of p, q; mu_local = q/p with its delta-rule sd where p is *resolved*: the
   posterior mean exceeds 3 sd (``RESOLVED_Z``);
-* the contact interval: the contact prior's window, with the sd of its edges from the Laplace
-  covariance of the hyperparameters (envelope prior: from 400 posterior draws, the outermost
+* the contact interval: the contact prior's window widened by its rounding's offset (0.087
+  node steps each side, ``inverse_prior.rounding_offset``), with the sd of its edges from the
+  Laplace covariance of the hyperparameters (envelope prior: from 400 posterior draws, the outermost
   crossings around the peak of the level 2 * (median sd of p));
 * the resolution length: pi / k_c, k_c the largest wavenumber whose sinusoid of the peak
   pressure still shows in the data at 3 noise sd (``inverse_forward._resolution_length``).
