@@ -1,7 +1,7 @@
 """Inverse: from base stresses (or the MEMS view) back to the interface tractions (issue 21).
 
     python -m studies.inverse [--quick] [--out DIR] [--seeds N]
-                              [--parts calibration,sweep,routes,speed,figure]
+                              [--parts calibration,sweep,routes,speed,figure,noise_free]
 
 Synthetic records on the paper's film (h = 2 mm, E = 2.2 MPa, R = 130 mm, P_L = 200 N/m) over
 x in [-10, 10] mm, 401 samples (step 0.05 mm), white Gaussian noise of sd = (noise) x the peak
@@ -32,7 +32,11 @@ of each component, one record per seed:
    warm-up (auto, not propagated) before each record's runs: the first row's is the
    process's first inversion (it pays the inverse's lazy imports).
 
-Writes inverse_calibration.csv (one row per record), inverse_summary.csv (means over seeds),
+5. noise_free: the three truths, both views, with no noise and 0.01 % and 0.1 % (seed 7), the
+   default prior: L2, coverage, z of P and Q, the contact edges' errors against their sd; and
+   noise-free base records of the amontons scene with h = 1, 4 mm, mu = 0.3, 2, load 60 N/m.
+
+Writes inverse_noise_free.csv, inverse_calibration.csv (one row per record), inverse_summary.csv (means over seeds),
 inverse_sweep.csv, inverse_routes.csv, inverse_speed.csv, inverse_example.csv (a record a new
 user can invert: ``spectral-contact invert DIR/inverse_example.csv``) and inverse.png.
 """
@@ -51,7 +55,13 @@ from spectral_contact.instruments.sensor import sensor_profiles
 from ._common import parse, table, write_rows
 
 X = np.arange(-10e-3, 10e-3 + 1e-9, 0.05e-3)
-PARTS = ("calibration", "sweep", "routes", "speed", "figure")
+PARTS = ("calibration", "sweep", "routes", "speed", "figure", "noise_free")
+NOISE_FREE_LEVELS = (0.0, 1e-4, 1e-3)
+"""Noise levels of the ``noise_free`` part: none, 0.01 %, 0.1 % of each component's peak."""
+NOISE_FREE_SCENES = ({"thickness": 0.001}, {"thickness": 0.004}, {"mu": 0.3}, {"mu": 2.0},
+                     {"load": 60.0})
+"""Further noise-free base records of the ``noise_free`` part: the exact model's solve at these
+changes of the amontons scene (load 200 N/m, mu 1, h 2 mm)."""
 
 
 def truth(case: str, thickness: float = 0.002):
@@ -112,7 +122,18 @@ def score(tr, inv):
             "resolution_mm": s["resolution_length_m"] * 1e3,
             "aic_amontons_minus_linear": (am.get("aic", np.nan) - lin.get("aic", np.nan)),
             "best_law": laws.get("best"),
-            "prior": s["regularisation"].get("prior_choice", {}).get("chosen", "contact")}
+            "prior": s["regularisation"].get("prior_choice", {}).get("chosen", "contact"),
+            **edge_scores(s, a, b)}
+
+
+def edge_scores(s, a, b):
+    """The reported contact interval's edges against the truth's (a, b) [m]: errors and sd [mm]
+    and z = error / sd."""
+    (lo, hi), (slo, shi) = s["contact_interval_m"], s["contact_interval_sigma_m"]
+    return {"edge_left_err_mm": (lo - a) * 1e3, "edge_left_sd_mm": slo * 1e3,
+            "edge_right_err_mm": (hi - b) * 1e3, "edge_right_sd_mm": shi * 1e3,
+            "z_edge_left": (lo - a) / slo if slo > 0 else np.nan,
+            "z_edge_right": (hi - b) / shi if shi > 0 else np.nan}
 
 
 class _count_evaluations:
@@ -183,6 +204,7 @@ def summarise(rows, keys):
 
         zP = np.array([r["z_P"] for r in rs])
         zQ = np.array([r["z_Q"] for r in rs])
+        zE = np.array([r[k] for r in rs for k in ("z_edge_left", "z_edge_right")])
         out.append({**dict(zip(keys, g)), "seeds": len(rs), "L2_p": m("L2_p"), "L2_q": m("L2_q"),
                     "cover_p_central": m("cover_p_central"), "cover_q_central": m("cover_q_central"),
                     "cover_p_contact": m("cover_p_contact"), "cover_q_contact": m("cover_q_contact"),
@@ -190,7 +212,9 @@ def summarise(rows, keys):
                     "P_within_2sigma": float(np.mean(np.abs(zP) <= 2)),
                     "Q_within_2sigma": float(np.mean(np.abs(zQ) <= 2)),
                     "max_abs_err_P": float(max(abs(r["err_P"]) for r in rs)),
-                    "max_abs_err_Q": float(max(abs(r["err_Q"]) for r in rs))})
+                    "max_abs_err_Q": float(max(abs(r["err_Q"]) for r in rs)),
+                    "z_edges_rms": float(np.sqrt(np.nanmean(zE**2))),
+                    "edges_within_2sd": float(np.mean(np.abs(zE) <= 2))})
     return out
 
 
@@ -260,6 +284,31 @@ def main(argv=None) -> int:
                    "inverse: error and coverage against noise and a/h (amontons case)")
         table(summarise(sweep, ("sweep", "view", "noise", "a_over_h")), out / "inverse_sweep_summary.csv",
               "inverse: means over seeds against noise and contact half-width / h")
+    if "noise_free" in parts:
+        # 5. noise-free and nearly noise-free records, default prior (the model-error floor)
+        nf = []
+        for case in cases:
+            for view in ("base", "sensor"):
+                for noise in NOISE_FREE_LEVELS:
+                    zz, xz = record(truths[case], view, noise, 7)
+                    inv = invert_line(X, zz, xz, view=view)
+                    nf.append({"case": case, "view": view, "noise": noise,
+                               **score(truths[case], inv)})
+        # the exact model's own noise-free base records at other scenes (amontons)
+        for kw in NOISE_FREE_SCENES:
+            r = solve(**{"load": 200.0, "mu": 1.0, **kw})
+            tr = (r.x_m, r.pressure_Pa, r.surface_shear_Pa, r.base_sigma_zz_Pa,
+                  r.base_sigma_xz_Pa, float(np.sum(r.pressure_Pa) * (r.x_m[1] - r.x_m[0])),
+                  float(np.sum(r.surface_shear_Pa) * (r.x_m[1] - r.x_m[0])))
+            zz, xz = record(tr, "base", 0.0, 7)
+            inv = invert_line(X, zz, xz, thickness=r.scene.thickness)
+            (a, b), = r.contact_intervals_m
+            nf.append({"case": "amontons " + " ".join(f"{k}={v:g}" for k, v in kw.items()),
+                       "view": "base", "noise": 0.0, **score(tr, inv),
+                       **edge_scores(inv.summary(), a, b)})
+        table(nf, out / "inverse_noise_free.csv",
+              "inverse, default prior, noise-free and 0.01 / 0.1 % noise records (seed 7): L2, "
+              "coverage, z of P and Q, the contact edges' errors and sd")
     if "routes" in parts:
         # 3. routes: the paper's two integrals against the local route (sensor view, 1 % noise)
         routes = []

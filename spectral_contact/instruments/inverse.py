@@ -43,6 +43,20 @@ varying-mu sensor records one maximum alone gave 2-sd coverage of p near 0.5, tw
 rigid and a flexible p) 0.60, the profile to 20 h 0.75, the capped profile 1.00
 (studies/README).
 
+Model-error floor (both priors).  The noise sd of each data component is at least
+``inverse_prior.model_error_floor``: 1e-3 of the data's peak per sample at the contact prior's
+node step h/16, times sqrt(h/16 / sample step) for samples finer than that (``NOISE_FLOOR``).
+It stands for the forward map's own discretisation error, which no noise sd below it can
+describe: the base response of the exact tractions minus that of their hat interpolant on
+h/16 nodes has rms 5.4e-4 (zz) and 3.3e-4 (xz) of the peak on the solver's noise-free record,
+largest 1.9e-3, correlated over ~h (a semi-ellipse on the same window: 6.1e-4, 3.6e-4).  The
+two priors' likelihoods share it, so that ``auto`` compares them on the tractions: with the
+floor on the contact prior only, the envelope prior fitted a noise-free record to 4e-6 of its
+peak and won the evidence by ~7600 nats on that alone (solve(load=200, mu=1): Q 200.32 +- 0.08
+N/m, right edge 0.26 mm = 16 sd out, every law rejected).  On records of 0.01-0.1 % noise and
+noise-free ones both priors' noise sd sit at the floor; at 1 % noise it is inactive (the 132
+calibration records' numbers are unchanged to the last digit).
+
 Posterior.  Gaussian given the hyperparameters; with ``hyper=True`` (default, contact prior)
 the other hyperparameters' own uncertainty is added to first order at each profile point
 (Laplace: S + J Sigma_theta J^T, ``inverse_prior.propagate``).  From it:
@@ -51,8 +65,9 @@ the other hyperparameters' own uncertainty is added to first order at each profi
   covariance (Q/P by the first-order (delta) rule with the P-Q correlation);
 * pointwise sd of p, q; mu_local = q/p with its delta-rule sd where p is *resolved*: the
   posterior mean exceeds 3 sd (``RESOLVED_Z``);
-* the contact interval: the contact prior's window, with the sd of its edges from the Laplace
-  covariance of the hyperparameters (envelope prior: from 400 posterior draws, the outermost
+* the contact interval: the contact prior's window widened by its rounding's offset (0.087
+  node steps each side, ``inverse_prior.rounding_offset``), with the sd of its edges from the
+  Laplace covariance of the hyperparameters (envelope prior: from 400 posterior draws, the outermost
   crossings around the peak of the level 2 * (median sd of p));
 * the resolution length: pi / k_c, k_c the largest wavenumber whose sinusoid of the peak
   pressure still shows in the data at 3 noise sd (``inverse_forward._resolution_length``).
@@ -98,7 +113,7 @@ from .inverse_forward import (  # noqa: F401  (re-exported)
     base_from_tractions,
 )
 from .inverse_laws import fit_laws
-from .inverse_prior import fit_contact, propagate, regularisation_record
+from .inverse_prior import fit_contact, model_error_floor, propagate, regularisation_record, rounding_offset
 from .inverse_result import LineInversion
 
 __all__ = ["invert", "read_record", "invert_line", "LineInversion", "LineForward", "fit_laws",
@@ -147,8 +162,9 @@ def _envelope_screen(x_m, zz_Pa, xz_Pa, thickness, poisson, view, apparatus, sup
         fwd = LineForward.build(x / h, Film(1.0, poisson), symbols, support=sup_h,
                                 step=SCREEN_STEP_H)
         ev = _Evidence(fwd, dz / scale, dxz / scale, envelope=sup_h is None)
+        fl = model_error_floor((x[1] - x[0]) / h)
         _, le, _ = _optimise(ev, dz / scale, dxz / scale, fwd.nodes[1] - fwd.nodes[0],
-                             ftol=1e-7, gtol=1e-2)
+                             ftol=1e-7, gtol=1e-2, noise_floor=(fl, fl))
     except (ValueError, ArithmeticError, np.linalg.LinAlgError):
         return None
     return float(le - 2 * x.size * math.log(scale)) if math.isfinite(le) else None
@@ -200,17 +216,18 @@ def _mix_modes(ev, modes, free, hyper, h, known):
             _, (mk, ck, _) = ev.evaluate(th, full=True)
         means.append(mk)
         covs.append(ck)
-        windows.append(_window_interval(th, sig, idx, h, known))
+        windows.append(_window_interval(th, sig, idx, h, known, rounding_offset(ev.dt)))
     mbar = sum(w * mk for w, mk in zip(wts, means))
     cov = sum(w * (ck + np.outer(mk - mbar, mk - mbar)) for w, mk, ck in zip(wts, means, covs))
     return mbar, cov, windows, wts
 
 
-def _window_interval(theta, sig, idx, h, known):
-    """The contact prior's window [c - w0, c + w0] [m] and the sd of its two edges from the
+def _window_interval(theta, sig, idx, h, known, offset=0.0):
+    """The contact prior's window [c - w0, c + w0] [m], widened by ``offset`` [h] on each side
+    (the rounding's, ``inverse_prior.rounding_offset``), and the sd of its two edges from the
     Laplace covariance of (c, log w0) (NaN where not propagated or at a bound; 0 if known)."""
     c, w0 = float(theta[0]), math.exp(theta[1])
-    edges = [(c - w0) * h, (c + w0) * h]
+    edges = [(c - w0 - offset) * h, (c + w0 + offset) * h]
     if known is not None:
         return [known[0] * h, known[1] * h], [0.0, 0.0]
     if sig is None or 0 not in idx or 1 not in idx:
@@ -281,7 +298,8 @@ def invert_line(x_m, zz_Pa, xz_Pa, *, thickness: float = 0.002, poisson: float =
     for the contact interval's uncertainty.  prior : "auto" (default: both priors fitted to the
     same data and the one of higher evidence kept, equal prior odds; a contact prior whose
     search fails is reported as such in ``regularisation["prior_choice"]``), "contact" or
-    "envelope".
+    "envelope".  Both priors' noise sd are at least the model-error floor (the module
+    docstring; ``regularisation["model_error_floor_Pa"]``, per original sample).
     """
     if prior == "auto":
         return _invert_auto(x_m, zz_Pa, xz_Pa, dict(
@@ -406,7 +424,9 @@ def _fit(prior, d, hyper):
     else:
         fwd = LineForward.build(xh, d.film, d.symbols, support=d.sup_h)
         ev = _Evidence(fwd, zs, xs, envelope=d.sup_h is None)
-        theta, logev, free = _optimise(ev, zs, xs, fwd.nodes[1] - fwd.nodes[0])
+        fl = model_error_floor((d.x[1] - d.x[0]) / d.h)  # the same floor as the contact's
+        theta, logev, free = _optimise(ev, zs, xs, fwd.nodes[1] - fwd.nodes[0],
+                                       noise_floor=(fl, fl))
         _, (mean, cov, _) = ev.evaluate(theta, full=True)
         nz, nx = np.exp(theta[5:7])
         modes = windows = weights = None
@@ -497,6 +517,8 @@ def _record(d, f, totals, interval, interval_sd, res_len, laws, prior, view, pos
     rec["record_m"] = [float(d.x[0]), float(d.x[-1])]
     rec["contact_within_record"] = bool(not np.all(np.isfinite(interval))
                                         or (interval[0] >= d.x[0] and interval[1] <= d.x[-1]))
+    rec["regularisation"]["model_error_floor_Pa"] = float(
+        model_error_floor((d.x[1] - d.x[0]) / h) * scale * math.sqrt(d.nbin))
     if prior == "contact":
         rec["regularisation"]["evidence_maxima"] = [
             {"log_evidence_below_best": float(f.logev - le), "weight": float(wt),

@@ -235,10 +235,12 @@ def _noise_guess(d):
                1e-6 * float(np.max(np.abs(d)) or 1.0))
 
 
-def _optimise(ev: _Evidence, dz, dx, dt, ftol=1e-10, gtol=1e-3):
+def _optimise(ev: _Evidence, dz, dx, dt, ftol=1e-10, gtol=1e-3, noise_floor=None):
     """Maximum of the log-evidence over the hyperparameters (L-BFGS-B with the analytic
     gradient, from the data's amplitude, a noise estimate from second differences and an
-    envelope around the data's peak); returns (theta, log-evidence, free mask)."""
+    envelope around the data's peak); ``noise_floor`` (zz, xz): the noise sd's lower bounds
+    (scaled units; ``inverse_prior.model_error_floor``); returns (theta, log-evidence, free
+    mask)."""
     t = ev.t
     scale = max(float(np.max(np.abs(dz))), float(np.max(np.abs(dx))), 1e-300)
     nz0 = min(max(_noise_guess(dz), 1e-4 * scale), 0.3 * scale)
@@ -254,6 +256,8 @@ def _optimise(ev: _Evidence, dz, dx, dt, ftol=1e-10, gtol=1e-3):
     hi = np.array([math.log(20.0)] * 2 + [math.log(1e3 * scale)] * 3
                   + [math.log(10 * scale)] * 2 + [t[-1], math.log(t[-1] - t[0]), math.log(5.0)])
     lo[9] = math.log(max(ENVELOPE_EDGE_MIN_H, dt / 2))
+    if noise_floor is not None:  # the model-error floor (scaled units, absolute; zz, xz)
+        lo[5], lo[6] = (math.log(f) for f in noise_floor)
     lo = np.concatenate([lo, [math.log(1e-4 * scale)] * 2 + [math.log(max(dt, 0.05))]])
     hi = np.concatenate([hi, [math.log(1e3 * scale)] * 2 + [math.log(20.0)]])
     free = np.ones(_NPAR, bool)

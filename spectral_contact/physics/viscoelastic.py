@@ -224,6 +224,15 @@ class ViscoelasticFilm(Film):
         behind the contact (0 when not moving)."""
         return abs(self.speed) * max(self.retardation_times()) if self.moving else 0.0
 
+    def _long_tails(self) -> list[tuple[float, float]]:
+        """[(c_j, l_j)]: the retardation terms whose tail l_j = V tau_r,j is long enough to have
+        its periodic images summed (|l_j| decay_rate >= TAIL_CORRECTED); none at rest."""
+        if not self.moving:
+            return []
+        _, terms = self.partial_fractions()
+        return [(c, self.speed * tr) for c, tr in terms
+                if abs(self.speed * tr) * self.decay_rate >= TAIL_CORRECTED]
+
     def tail_poles(self, mu: float = 0.0) -> list[tuple[float, object]]:
         """(l_j, B_j) of the relaxation tails that the FFT solvers sum exactly: l_j = V tau_r,j
         (signed like V) with |l_j| >= ``TAIL_CORRECTED`` / ``decay_rate``, and B_j(k_y) = c_j
@@ -249,17 +258,8 @@ class ViscoelasticFilm(Film):
         TAIL_CORRECTED / decay_rate decay within a few elastic decay lengths (their pole is
         near D's zero at y = 0.739, where B diverges and the elastic poles' residues with
         it): they stay in ``domain_margin``."""
-        if not self.moving:
-            return []
-        _, terms = self.partial_fractions()
         h = self.thickness
-        out = []
-        for c, tr in terms:
-            length = self.speed * tr
-            if abs(length) * self.decay_rate < TAIL_CORRECTED:
-                continue
-            out.append((length, _tail_symbol(c, h, h / length, mu)))
-        return out
+        return [(length, _tail_symbol(c, h, h / length, mu)) for c, length in self._long_tails()]
 
     def image_factor(self) -> float | None:
         """Bound of the periodic images' effect on a line contact relative to the elastic
@@ -328,17 +328,9 @@ class ViscoelasticFilm(Film):
         contact were off by ~ the tail's weight times the contact's size over the period (the
         sphere at V tau_r = 30 h, mu 0.5, on the 15 h period: 14 % of max |u_x| against four
         times the period; tests/test_viscoelastic.py)."""
-        if not self.moving:
-            return []
-        _, terms = self.partial_fractions()
         h = self.thickness
-        out = []
-        for c, tr in terms:
-            length = self.speed * tr
-            if abs(length) * self.decay_rate < TAIL_CORRECTED:
-                continue
-            out.append((length, *_tail_displacement_symbols(c, h, h / length, mu)))
-        return out
+        return [(length, *_tail_displacement_symbols(c, h, h / length, mu))
+                for c, length in self._long_tails()]
 
     def tail_amplitude(self, length: float | None = None) -> float:
         """Relative amplitude of the relaxation tail behind the contact: c min(1, (2h/l)^2), c =
