@@ -122,7 +122,18 @@ def score(tr, inv):
             "resolution_mm": s["resolution_length_m"] * 1e3,
             "aic_amontons_minus_linear": (am.get("aic", np.nan) - lin.get("aic", np.nan)),
             "best_law": laws.get("best"),
-            "prior": s["regularisation"].get("prior_choice", {}).get("chosen", "contact")}
+            "prior": s["regularisation"].get("prior_choice", {}).get("chosen", "contact"),
+            **edge_scores(s, a, b)}
+
+
+def edge_scores(s, a, b):
+    """The reported contact interval's edges against the truth's (a, b) [m]: errors and sd [mm]
+    and z = error / sd."""
+    (lo, hi), (slo, shi) = s["contact_interval_m"], s["contact_interval_sigma_m"]
+    return {"edge_left_err_mm": (lo - a) * 1e3, "edge_left_sd_mm": slo * 1e3,
+            "edge_right_err_mm": (hi - b) * 1e3, "edge_right_sd_mm": shi * 1e3,
+            "z_edge_left": (lo - a) / slo if slo > 0 else np.nan,
+            "z_edge_right": (hi - b) / shi if shi > 0 else np.nan}
 
 
 class _count_evaluations:
@@ -193,6 +204,7 @@ def summarise(rows, keys):
 
         zP = np.array([r["z_P"] for r in rs])
         zQ = np.array([r["z_Q"] for r in rs])
+        zE = np.array([r[k] for r in rs for k in ("z_edge_left", "z_edge_right")])
         out.append({**dict(zip(keys, g)), "seeds": len(rs), "L2_p": m("L2_p"), "L2_q": m("L2_q"),
                     "cover_p_central": m("cover_p_central"), "cover_q_central": m("cover_q_central"),
                     "cover_p_contact": m("cover_p_contact"), "cover_q_contact": m("cover_q_contact"),
@@ -200,7 +212,9 @@ def summarise(rows, keys):
                     "P_within_2sigma": float(np.mean(np.abs(zP) <= 2)),
                     "Q_within_2sigma": float(np.mean(np.abs(zQ) <= 2)),
                     "max_abs_err_P": float(max(abs(r["err_P"]) for r in rs)),
-                    "max_abs_err_Q": float(max(abs(r["err_Q"]) for r in rs))})
+                    "max_abs_err_Q": float(max(abs(r["err_Q"]) for r in rs)),
+                    "z_edges_rms": float(np.sqrt(np.nanmean(zE**2))),
+                    "edges_within_2sd": float(np.mean(np.abs(zE) <= 2))})
     return out
 
 
@@ -274,18 +288,12 @@ def main(argv=None) -> int:
         # 5. noise-free and nearly noise-free records, default prior (the model-error floor)
         nf = []
         for case in cases:
-            x, p = truths[case][0], truths[case][1]
-            a, b = x[p > 0].min(), x[p > 0].max()
             for view in ("base", "sensor"):
                 for noise in NOISE_FREE_LEVELS:
                     zz, xz = record(truths[case], view, noise, 7)
                     inv = invert_line(X, zz, xz, view=view)
-                    s_ = inv.summary()
-                    (lo, hi), (slo, shi) = s_["contact_interval_m"], s_["contact_interval_sigma_m"]
                     nf.append({"case": case, "view": view, "noise": noise,
-                               **score(truths[case], inv),
-                               "edge_left_err_mm": (lo - a) * 1e3, "edge_left_sd_mm": slo * 1e3,
-                               "edge_right_err_mm": (hi - b) * 1e3, "edge_right_sd_mm": shi * 1e3})
+                               **score(truths[case], inv)})
         # the exact model's own noise-free base records at other scenes (amontons)
         for kw in NOISE_FREE_SCENES:
             r = solve(**{"load": 200.0, "mu": 1.0, **kw})
@@ -294,13 +302,10 @@ def main(argv=None) -> int:
                   float(np.sum(r.surface_shear_Pa) * (r.x_m[1] - r.x_m[0])))
             zz, xz = record(tr, "base", 0.0, 7)
             inv = invert_line(X, zz, xz, thickness=r.scene.thickness)
-            s_ = inv.summary()
             (a, b), = r.contact_intervals_m
-            (lo, hi), (slo, shi) = s_["contact_interval_m"], s_["contact_interval_sigma_m"]
             nf.append({"case": "amontons " + " ".join(f"{k}={v:g}" for k, v in kw.items()),
                        "view": "base", "noise": 0.0, **score(tr, inv),
-                       "edge_left_err_mm": (lo - a) * 1e3, "edge_left_sd_mm": slo * 1e3,
-                       "edge_right_err_mm": (hi - b) * 1e3, "edge_right_sd_mm": shi * 1e3})
+                       **edge_scores(inv.summary(), a, b)})
         table(nf, out / "inverse_noise_free.csv",
               "inverse, default prior, noise-free and 0.01 / 0.1 % noise records (seed 7): L2, "
               "coverage, z of P and Q, the contact edges' errors and sd")

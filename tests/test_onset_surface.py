@@ -246,12 +246,19 @@ def test_sphere_loose_criteria_keep_the_answers():
         prev = a
 
 
-def test_row_pruned_transform_equals_the_full_one():
+@pytest.mark.parametrize("spare", [True, False])
+def test_row_pruned_transform_equals_the_full_one(spare, monkeypatch):
     """``PartialSlipOperator.transform`` with ``rows`` (the y-passes on a band of rows only)
     gives the full transform's result on the band, and ``full_output`` on every row: for two
-    bands in turn (the first band's rows must be cleared for the second), both symbols."""
+    bands in turn (the first band's rows must be cleared for the second), both symbols; with
+    the backward x-pass out of place (a spare buffer) and in place (large grids)."""
+    from spectral_contact.numerics import slip_operator
+
+    monkeypatch.setattr(slip_operator, "_SPARE_BYTES", 2 ** 40 if spare else 0)
+    monkeypatch.setattr(slip_operator, "_ROWS", {})
     g = Grid.centered((64, 64), (10.0, 10.0))
     op = PartialSlipOperator2D(g)
+    assert (op._rows.b is op._rows.o) is not spare
     r = op._plan[0]
     rng = np.random.default_rng(1)
     for rows, M in (((8, 24), op.M), ((30, 46), op.preconditioner(1.0)), ((30, 46), op.M)):
@@ -278,3 +285,58 @@ def test_gross_sliding_carries_its_predecessors_load_step_estimate(sphere_pair):
         assert r.Q_over_muP[-1] == 1.0 and e[-2] > 0.0
         assert e[-1] >= e[-2]
         assert r.error_estimates[-1] >= e[-2]
+
+
+def test_newton_term_is_the_slip_along_the_new_direction():
+    """The slip rows' Newton term (``partial_slip._update``): the slip increment along the next
+    direction t = q/|q|, s . t (the exact linearisation of s x q = 0), floored at 0.1 |s|;
+    |s| (before) turned a node slipping at an angle to q by atan(sin(angle)) only."""
+    from spectral_contact.numerics import partial_slip as ps
+
+    n = 4
+    contact, stick = np.ones(n, dtype=bool), np.array([True, False, False, False])
+    ang = np.radians([0.0, 60.0, 100.0])
+    t = np.zeros((2, n))
+    t[0, 1:3] = 1.0
+    t[:, 3] = np.cos(ang[2]), np.sin(ang[2])  # (slipping along its t: it does not stick)
+    q = np.zeros((2, n))
+    q[0, 1:] = 1.0  # q along x: the next t is (1, 0) on the three slip nodes
+    p = np.full(n, 2.0)
+    u_prev, u = np.zeros((2, n)), np.zeros((2, n))
+    u[:, 1:] = -np.array([np.cos(ang), np.sin(ang)])  # s = delta - u: unit slips at 0, 60, 100 deg
+    fields = (p, q, np.zeros(n), u, 0.0, np.zeros(2), np.zeros(n))
+    (_, new_stick, new_t), (ds, newton, _), _ = ps._update(
+        (contact, stick, t), fields, np.zeros(2), u_prev, 0.5, False, np.array([1.0, 0.0]),
+        False, np.zeros(2))
+    assert np.allclose(np.hypot(*ds)[1:], 1.0)
+    assert new_stick[0] and not new_stick[1:].any()
+    assert np.allclose(new_t[:, 1:], [[1.0] * 3, [0.0] * 3])
+    assert np.allclose(newton[1:], [1.0, 0.5, 0.1])  # cos 0, cos 60, cos 100 floored at 0.1
+
+
+def test_gross_sliding_at_small_mu_is_full_slip():
+    """Issue 22's 1 N sphere at mu 0.02: its gross-sliding step cycled between stick sets (1 and
+    16 nodes, a Coulomb violation 0.55, exit 3) on 256^2; the smallest loading found to do so
+    is this one (2 frictional loading steps, then Q = mu P at once; 128^2 and 192^2 ran).  At
+    Q = mu P Coulomb and the sum of q leave q = mu p along Q at every contact node: the
+    tractions are the steady ones, and delta is the least that lets no node slip against Q
+    (``numerics.partial_slip._gross_finish``)."""
+    from spectral_contact.physics.scene import Scene3D
+    from spectral_contact.solvers.onset3d import check_onset_scene3d, loading_runner
+
+    scene = check_onset_scene3d(Scene3D(indenter="sphere", force=1.0, mu=0.02))
+    run, _, _, steady, _ = loading_runner(scene, [1.0], 1e-2, loading_steps=2)
+    r = run(256)
+    before, s = r.loaded, r.states[-1]
+    mu, P = scene.mu, s.P
+    assert np.array_equal(s.q[0], np.where(s.contact, mu * s.p, 0.0)) and not s.q[1].any()
+    assert r.grid.cell * s.q[0].sum() == pytest.approx(mu * P, rel=1e-12)
+    ds = (s.delta - before.delta)[:, None] - (s.u - before.u)
+    scale = np.abs(ds[0, s.contact]).max()
+    assert ds[0, s.contact].min() >= -1e-12 * scale  # no node slips against Q
+    assert s.stick.sum() == 1 and abs(ds[0, s.stick][0]) <= 1e-12 * scale  # the last to stick
+    assert np.abs(ds[1, s.stick]).max() <= 1e-12 * scale
+    # the steady sliding state of ``solve`` (its own grid), to the default tol
+    m = r.measures[-1]
+    assert abs(m["radius"] * scene.length_unit - steady.contact_radius_m) \
+        <= 1e-2 * steady.contact_radius_m

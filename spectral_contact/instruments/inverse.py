@@ -65,8 +65,9 @@ the other hyperparameters' own uncertainty is added to first order at each profi
   covariance (Q/P by the first-order (delta) rule with the P-Q correlation);
 * pointwise sd of p, q; mu_local = q/p with its delta-rule sd where p is *resolved*: the
   posterior mean exceeds 3 sd (``RESOLVED_Z``);
-* the contact interval: the contact prior's window, with the sd of its edges from the Laplace
-  covariance of the hyperparameters (envelope prior: from 400 posterior draws, the outermost
+* the contact interval: the contact prior's window widened by its rounding's offset (0.087
+  node steps each side, ``inverse_prior.rounding_offset``), with the sd of its edges from the
+  Laplace covariance of the hyperparameters (envelope prior: from 400 posterior draws, the outermost
   crossings around the peak of the level 2 * (median sd of p));
 * the resolution length: pi / k_c, k_c the largest wavenumber whose sinusoid of the peak
   pressure still shows in the data at 3 noise sd (``inverse_forward._resolution_length``).
@@ -112,7 +113,7 @@ from .inverse_forward import (  # noqa: F401  (re-exported)
     base_from_tractions,
 )
 from .inverse_laws import fit_laws
-from .inverse_prior import fit_contact, model_error_floor, propagate, regularisation_record
+from .inverse_prior import fit_contact, model_error_floor, propagate, regularisation_record, rounding_offset
 from .inverse_result import LineInversion
 
 __all__ = ["invert", "read_record", "invert_line", "LineInversion", "LineForward", "fit_laws",
@@ -215,17 +216,18 @@ def _mix_modes(ev, modes, free, hyper, h, known):
             _, (mk, ck, _) = ev.evaluate(th, full=True)
         means.append(mk)
         covs.append(ck)
-        windows.append(_window_interval(th, sig, idx, h, known))
+        windows.append(_window_interval(th, sig, idx, h, known, rounding_offset(ev.dt)))
     mbar = sum(w * mk for w, mk in zip(wts, means))
     cov = sum(w * (ck + np.outer(mk - mbar, mk - mbar)) for w, mk, ck in zip(wts, means, covs))
     return mbar, cov, windows, wts
 
 
-def _window_interval(theta, sig, idx, h, known):
-    """The contact prior's window [c - w0, c + w0] [m] and the sd of its two edges from the
+def _window_interval(theta, sig, idx, h, known, offset=0.0):
+    """The contact prior's window [c - w0, c + w0] [m], widened by ``offset`` [h] on each side
+    (the rounding's, ``inverse_prior.rounding_offset``), and the sd of its two edges from the
     Laplace covariance of (c, log w0) (NaN where not propagated or at a bound; 0 if known)."""
     c, w0 = float(theta[0]), math.exp(theta[1])
-    edges = [(c - w0) * h, (c + w0) * h]
+    edges = [(c - w0 - offset) * h, (c + w0 + offset) * h]
     if known is not None:
         return [known[0] * h, known[1] * h], [0.0, 0.0]
     if sig is None or 0 not in idx or 1 not in idx:

@@ -27,6 +27,8 @@ __all__ = ["PartialSlipOperator", "PartialSlipOperator2D"]
 _PLANS: dict = {}
 _ROWS: dict = {}
 _ROW_PLANS = 64  # band plans kept per grid (one per band of rows: start and height)
+_SPARE_BYTES = 2 ** 26  # the band transform's spare spectrum buffer (the backward x-pass out of
+# place) up to this size (~1024^2 points, 3 fields); larger grids run that pass in place
 
 
 def _plan(shape: tuple, m: int):
@@ -60,9 +62,9 @@ class _Rows:
     """The row-pruned transform of ``_plan(shape, m)``'s buffers on a 2D grid: along y (the
     last axis) on a band of rows only, along x on every column.  ``a`` holds the forward
     y-pass (zero outside the band: the x-pass reads every row of it); the backward x-pass
-    writes ``b`` (out of place: 0.15 against 0.20 ms in place at 256^2, 3 fields), whose band
-    the y-pass then reads without destroying it, so that ``full_output`` can still complete
-    every row."""
+    writes ``b`` (out of place: 0.15 against 0.20 ms in place at 256^2, 3 fields; in place,
+    ``b`` the product's buffer, beyond ``_SPARE_BYTES``), whose band the y-pass then reads
+    without destroying it, so that ``full_output`` can still complete every row."""
 
     def __init__(self, shape: tuple, m: int):
         import pyfftw
@@ -71,7 +73,8 @@ class _Rows:
 
         self.r, self.c, self.o = _plan(shape, m)[:3]
         self.a = pyfftw.zeros_aligned(self.c.shape, dtype="complex128")
-        self.b = pyfftw.empty_aligned(self.c.shape, dtype="complex128")
+        self.b = self.o if self.c.nbytes > _SPARE_BYTES else \
+            pyfftw.empty_aligned(self.c.shape, dtype="complex128")
         effort = (_fft._PLANNER_EFFORT,)
         self.x_fwd = pyfftw.FFTW(self.a, self.c, axes=(1,), flags=effort).execute
         self.x_bwd = pyfftw.FFTW(self.o, self.b, axes=(1,), direction="FFTW_BACKWARD",

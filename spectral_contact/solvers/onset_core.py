@@ -209,7 +209,8 @@ def load_step_estimates(coarse, run, path, loading: str, loading_steps: int, dif
             e = full_e
         out.append(e)
     # gross sliding (|Q| = |mu| P): its state is the limit of the partial slip states (delta
-    # set by the last stick node of the step before), so it carries that step's error, which
+    # set by the last node to stick, the one the step moved furthest along Q, from the state
+    # of the step before), so it carries that step's error, which
     # the two runs can share by chance (the 1 N sphere's: 2e-6 on 128^2, against 1.9e-3 from a
     # 4 x finer step on 256^2): at least its predecessor's
     main = out[0]
