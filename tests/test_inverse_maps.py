@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from spectral_contact.cli.main import main
+from spectral_contact.errors import InputError
 from spectral_contact.instruments import inverse_maps as im
 from spectral_contact.instruments.inverse import invert_line
 from spectral_contact.instruments.inverse_forward import base_from_tractions
@@ -316,3 +317,22 @@ def test_api_dispatch():
     assert isinstance(r, im.MapInversion)
     with pytest.raises(spectral_contact.InputError):
         spectral_contact.invert(x_m=X, y_m=Y, zz_Pa=d[0], xz_Pa=d[1], yz_Pa=d[2], positive=True)
+
+
+def test_window_with_tails_below_the_noise_is_refused():
+    """A window cut from a larger field whose border carries ~1-2 noise sd per sample (1 %
+    noise, a disc of radius 1.2 h cut at +-4.5 h): the per-sample border test lets it through,
+    and the code before the side-mean test inverted it with F and Q_x 1.5-5 sigma low (the
+    tails beyond the window are lost); the side's mean over its 36 samples is 5-8 sd of that
+    mean: refused (review of 2026-12-01)."""
+    h = 1e-3
+    x = (np.arange(96) - 48) * 0.25 * h
+    XX, YY = np.meshgrid(x, x, indexing="ij")
+    p = 6e4 * np.sqrt(np.clip(1 - (XX**2 + YY**2) / (1.2 * h) ** 2, 0, None))
+    szz, sxz, syz = im.base_maps_from_tractions(x, x, p, 0.6 * p, 0 * p, h)
+    s = slice(48 - 18, 48 + 18)
+    rng = np.random.default_rng(0)
+    n = 0.01 * np.abs(szz).max()
+    d = [c[s, s] + n * rng.standard_normal((36, 36)) for c in (-szz, sxz, syz)]
+    with pytest.raises(InputError, match="border carries a mean"):
+        im.invert_maps(x[s], x[s], *d, thickness=h)

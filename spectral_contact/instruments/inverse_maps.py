@@ -22,7 +22,9 @@ border): there the record *is* one period, and nothing lies beyond it.  A record
 larger field (a measured window) still carries 4-12 % of the peak at its border, and a
 periodic model would wrap those tails.  Such records are refused, not inverted: after the fit,
 if the re-predicted data on the outermost rows or columns exceed ``BORDER_Z`` noise sd and
-``BORDER_REL`` of the peak, the call raises InputError (an axis along which the field does not
+``BORDER_REL`` of the peak, or the record's mean along one side exceeds ``BORDER_MEAN_Z`` sd of
+that mean (a tail below the noise per sample: a disc cut at +-3.75 r under 1 % noise had its F
+and Q_x 1.5-5 sigma low before), the call raises InputError (an axis along which the field does not
 vary, a line record repeated along y, is periodic and not checked) (modelling tractions beyond a window,
 as the line inverse does with its margins, is not done for maps).
 
@@ -118,6 +120,10 @@ BORDER_Z = 3.0
 BORDER_REL = 1e-3
 """A record is a window (refused) if its re-predicted border data exceed this many noise sd
 and ``BORDER_REL`` of the data's peak (noise-free records: the peak alone)."""
+BORDER_MEAN_Z = 5.0
+"""... or if one side's mean of the record exceeds this many sd of that mean (noise/sqrt(n))
+and ``BORDER_REL`` of the peak: a tail below the noise per sample but plain over a side (noise
+alone passes: 12 side means beyond 5 sd have a probability of ~7e-6)."""
 RESOLVED_Z = 3.0
 LAW_EDGE_GUARD = {"smooth": 1.0, "contact": 0.5}
 """Pairs at least this many resolution lengths inside the resolved region, by prior (the
@@ -344,7 +350,7 @@ def invert_maps(x_m, y_m, zz_Pa, xz_Pa, yz_Pa, *, thickness: float = 0.002,
     first = (KERNEL_NU,) if prior == "auto" and KERNEL_NU in smoothness else smoothness
     post = smooth = _smooth_posterior(M, Y, (nx, ny), (dx, dy), ds, first, say, logscale)
     choice = {"smooth": float(smooth.logev - logscale)}
-    _border_check(_predict(M, smooth.mean), smooth.noise)  # a window: refused before the rest
+    _border_check(_predict(M, smooth.mean), smooth.noise, ds)  # a window: refused first
     if prior in ("auto", "contact"):
         try:
             contact = _contact_posterior(M, Y, (nx, ny), (dx, dy), smooth, say, logscale)
@@ -364,20 +370,36 @@ def invert_maps(x_m, y_m, zz_Pa, xz_Pa, yz_Pa, *, thickness: float = 0.002,
     return _finish(x, y, d, scale, M, post, choice, (dx, dy), h, nu, view)
 
 
-def _border_check(fit, noise):
-    """Refuse a window cut from a larger field (module docstring, The window)."""
-    edges = [np.zeros((3, 1))]
+def _border_check(fit, noise, data=None):
+    """Refuse a window cut from a larger field (module docstring, The window): a border
+    sample of the re-predicted data above ``BORDER_Z`` noise sd, or (``data``: the record
+    itself) the mean of one side's n samples above ``BORDER_MEAN_Z`` of its own sd,
+    noise / sqrt(n) (a tail of 2 % of the peak under 1 % noise passes the first, not the
+    second), either also above ``BORDER_REL`` of the peak."""
+    edges, sides = [np.zeros((3, 1))], []
     for ax in (1, 2):
         if np.any(np.ptp(fit, axis=ax).max(axis=-1) > BORDER_Z * noise):
             edges.append(np.abs(np.take(fit, [0, -1], axis=ax)).reshape(3, -1))
+            if data is not None:
+                for i in (0, -1):
+                    side = np.take(data, i, axis=ax)  # (3, n)
+                    sides.append((np.abs(side.mean(axis=-1)), side.shape[-1]))
     border = np.concatenate(edges, axis=1).max(axis=1)
     border_z = border / noise
+    what = None
     if np.any((border_z > BORDER_Z) & (border > BORDER_REL)):
         c = int(np.argmax(border_z))
-        raise InputError(f"the record's border carries {border_z[c]:.3g} noise sd of signal "
-                         f"({('zz', 'xz', 'yz')[c]}): a window cut from a larger field, which "
-                         f"a periodic model would wrap; give maps that extend until the base "
-                         f"field has decayed (as solve --maps writes them)")
+        what = f"{border_z[c]:.3g} noise sd of signal ({('zz', 'xz', 'yz')[c]})"
+    for m, n in sides:
+        z = m * math.sqrt(n) / noise
+        if what is None and np.any((z > BORDER_MEAN_Z) & (m > BORDER_REL)):
+            c = int(np.argmax(np.where(m > BORDER_REL, z, 0.0)))
+            what = (f"a mean of {m[c] / noise[c]:.3g} noise sd along one side "
+                    f"({('zz', 'xz', 'yz')[c]}; {z[c]:.3g} sd of that mean)")
+    if what is not None:
+        raise InputError(f"the record's border carries {what}: a window cut from a larger "
+                         f"field, which a periodic model would wrap; give maps that extend "
+                         f"until the base field has decayed (as solve --maps writes them)")
     return border_z
 
 
