@@ -303,7 +303,7 @@ class _Linear:
                 v[self.i_d + 1:].copy(), rel)
 
 
-def _update(sets, fields, prev_delta, u_prev, mu, gross, qdir, cautious, load=None):
+def _update(sets, fields, prev_delta, u_prev, mu, gross, qdir, cautious, load):
     """The next sets from the last solve: (contact, stick, t), the slip increment's
     (ds, the next Newton term's s . t, scale) and the directions' turn (see the module).
     Only the nodes in contact before or after are looked at (p and q vanish elsewhere): the
@@ -360,21 +360,14 @@ def _update_nodes(contact, stick, t, p, q, ds, new_contact, ddelta, mu, gross, q
     entered = new_contact & ~contact
     new_t[:, entered] = np.where(dsn[entered] > 0, dsu[:, entered], qdir[:, None])
     if not new_stick.any() and new_contact.any():
-        cand = np.flatnonzero(stick & new_contact)
-        if load is not None:
-            # a stick zone narrower than a cell; the node whose shear
-            # would balance the others' mu p t best (their sum with it slipping too, and the
-            # load per cell ``load``) stands for it
-            cand = np.flatnonzero(new_contact)
-            slide = mu * np.where(new_contact, np.maximum(p, 0.0), 0.0) * new_t
-            need = load[:, None] - slide.sum(axis=1)[:, None] + slide[:, cand]
-            _, nn = _unit(need)
-            j = cand[np.argmin(nn - mu * p[cand])]
-        else:
-            # (without the load) the most stuck of the old stick nodes still in contact
-            if not cand.size:
-                cand = np.flatnonzero(new_contact)
-            j = cand[np.argmin(excess[cand] / pmax)]
+        # a stick zone narrower than a cell (below gross sliding: ``_gross_sets`` keeps its
+        # own node); the node whose shear would balance the others' mu p t best (their sum
+        # with it slipping too, and the load per cell ``load``) stands for it
+        cand = np.flatnonzero(new_contact)
+        slide = mu * np.where(new_contact, np.maximum(p, 0.0), 0.0) * new_t
+        need = load[:, None] - slide.sum(axis=1)[:, None] + slide[:, cand]
+        _, nn = _unit(need)
+        j = cand[np.argmin(nn - mu * p[cand])]
         new_stick[j] = True
         new_t[:, j] = 0.0
     turn = 0.0
