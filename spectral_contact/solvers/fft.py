@@ -639,7 +639,6 @@ class _LineSolve:
             "image_error": lv.image_error,
             "estimate_parts": lv.parts,
             "domain_difference": lv.domain_diff,
-            "tolerance_met": bool(lv.est <= prob.tol),
         })
         if prob.visco:  # the averaged centroid (the error estimate covers it: _steps)
             info["pressure_centroid"] = q["m"]

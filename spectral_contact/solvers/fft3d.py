@@ -398,7 +398,7 @@ class _SurfaceSolve:
         sol, q = lv.cur.sol, lv.cur.q
         p = sol.pressure
         szz, sxz, syz, ux, uy, delta = fields
-        info.update(_surface_info(lv, self.prob.tol))
+        info.update(_surface_info(lv))
         info["deformation_friction"] = self.deformation_friction(sol, p) + 0.0
         x, y = sol.grid.axes
         return ContactResult3D(
@@ -410,12 +410,10 @@ class _SurfaceSolve:
             counters=prob.counters, shear=law_shear)
 
 
-def _surface_info(lv, tol: float) -> dict:
-    """The ``info`` entries of a surface besides the driver's (periodic grid or open box);
-    ``tolerance_met`` is False only on a user-fixed grid (a chosen one refines to tol)."""
+def _surface_info(lv) -> dict:
+    """The ``info`` entries of a surface besides the driver's (periodic grid or open box)."""
     sol, q = lv.cur.sol, lv.cur.q
     return {
-        "tolerance_met": bool(lv.est <= tol),
         "load_on_grid": q["load"],
         "extent_error_estimate": lv.extent_est,
         "extent_note": "contact x and y extents are envelopes of edges fitted along grid lines "
@@ -526,7 +524,7 @@ class _OpenSolve(_SurfaceSolve):
         p = np.ascontiguousarray(sol.pressure[sl])
         uz = -np.ascontiguousarray(sol.sinking[sl])
         szz, sxz, syz, ux, uy, _ = fields
-        info.update(_surface_info(lv, self.prob.tol))
+        info.update(_surface_info(lv))
         info["deformation_friction"] = self.deformation_friction(sol, sol.pressure) + 0.0
         info["open_box"] = True
         info["open_box_note"] = (

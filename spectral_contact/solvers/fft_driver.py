@@ -281,8 +281,9 @@ def refine(steps, shapes, lengths, center, located=None) -> Levels:
 def finish(steps, lv: Levels):
     """The result of the final level: the surface shear (Amontons mu p, or the law's), the
     base stresses and other output fields (``steps.fields``, counted), the timings and the
-    info every solve reports (the levels, the final level's residuals and work, the decay
-    margin, the friction law's iterations, the viscoelastic tail); the dimension's result."""
+    info every solve reports (the levels, the final level's residuals and work, whether the
+    estimate is within tol, the decay margin, the friction law's iterations, the viscoelastic
+    tail); the dimension's result."""
     prob, scene = steps.prob, steps.prob.scene
     sol = lv.cur.sol
     p = sol.pressure
@@ -295,6 +296,8 @@ def finish(steps, lv: Levels):
         "domain_margin": prob.margin,
         "final_level_active_set_iterations": sol.iterations,
         "final_level_krylov_iterations": sol.krylov_iterations,
+        # False only on a user-fixed grid (an automatic one refines to tol or raises)
+        "tolerance_met": bool(lv.est <= prob.tol),
     }
     if not prob.friction.is_amontons:
         info["friction_law_iterations"] = prob.law_iterations
