@@ -7,16 +7,23 @@ x - e, plus a curvature term) on the 2nd..5th nodes outside the contact (the 1st
 polluted by the discretisation) and taking its root.  Measured accuracy: a few hundredths of the
 grid spacing (studies/stability).  Fallbacks, in order: fewer gap nodes, then p^2 extrapolated
 from the last two contact nodes, then the midpoint of the cell.
+
+A viscoelastic film's trailing edge (``trailing``): behind it the gap does not open as
+s^{3/2} on the scale of the retardation lengths l_j = |V| tau_r,j but as ``viscous_gap`` (its
+inner layer: the elastic square-root edge under the relaxing film), glassy (r s^{3/2}) within
+l_j of the edge and the relaxed one delayed, (s - delta)^{3/2}, beyond; the root is fitted with
+that shape (``_trailing_root``).
 """
 from __future__ import annotations
 
 import math
 
 import numpy as np
+from scipy.special import dawsn
 
 from ..errors import InputError
 
-__all__ = ["contact_runs", "fit_edges", "peak"]
+__all__ = ["contact_runs", "fit_edges", "peak", "viscous_gap"]
 
 
 def contact_runs(active: np.ndarray):
@@ -99,9 +106,59 @@ def _edge(x0, dx, gap_out, p_in, free):
     return 0.5
 
 
-def fit_edges(x, dx, gap, pressure, active):
+def viscous_gap(s, terms):
+    """The gap's shape at distance s >= 0 behind the trailing edge of a contact on a relaxing
+    film whose compliance is R(k) = r + sum_j c_j / (1 - i k l_j) times the elastic one,
+    ``terms`` = [(c_j, |l_j|)], in the edge's inner region (s, l_j << the contact and the film):
+
+        G(s) = (2/3) s^{3/2} - sum_j c_j l_j^{3/2} (X_j - D(X_j)),   X_j = (s / l_j)^{1/2},
+
+    D Dawson's integral.  Derivation: near the trailing edge the pressure is the elastic
+    A sqrt(eps) (eps inside: R's memory reaches a point from upstream, the contact, where the
+    elastic edge's gap gradient vanishes, so the film's R leaves the contact condition as it
+    is); the gap gradient behind it, the elastic C sqrt(s), passes through R: r C sqrt(s) +
+    sum_j c_j int_0^s exp(-(s - t)/l_j) C sqrt(t) dt / l_j = C (sqrt(s) - sum_j c_j
+    sqrt(l_j) D(sqrt(s/l_j))) (sum c_j = 1 - r), whose integral is C G(s).  Limits: r (2/3)
+    s^{3/2} for s << l_j (the glassy film), (2/3)(s - delta)^{3/2} for s >> l_j, delta = sum
+    c_j l_j (the relaxed film's edge moved by delta)."""
+    s = np.maximum(s, 0.0)
+    out = (2.0 / 3.0) * s * np.sqrt(s)
+    for c, length in terms:
+        X = np.sqrt(s / length)
+        out = out - c * length * math.sqrt(length) * (X - dawsn(X))
+    return out
+
+
+_NODES = np.arange(2.0, 6.0)  # the 2nd..5th nodes outside, as the elastic fit
+
+
+def _trailing_root(gap_out, dx, terms):
+    """Offset (cells, outward, in (-0.25, 1.5)) of a viscoelastic trailing edge from its last
+    contact node: the elastic fit (``_quadratic_fit_root`` of gap^{2/3} on the 2nd..5th nodes
+    outside) of the gaps divided by ``viscous_gap``'s departure from the elastic shape,
+    rho(s) = G(s) / ((2/3) s^{3/2}) at the nodes' distances s from the root, iterated (3-4
+    times: the root moves rho little).  rho is r within l_j of the edge and 1 far beyond it;
+    where it is constant over the nodes (every l_j far below or far above the cells) the fit
+    is the elastic one exactly.  None when that fit has no root."""
+    g = [max(float(v), 0.0) for v in gap_out[2:6]]
+    t = _quadratic_fit_root(*(v ** (2.0 / 3.0) for v in g))
+    for _ in range(4):
+        if t is None:
+            return None
+        s = (_NODES - t) * dx
+        rho = viscous_gap(s, terms) / ((2.0 / 3.0) * s * np.sqrt(s))
+        t_new = _quadratic_fit_root(*((v / r) ** (2.0 / 3.0) for v, r in zip(g, rho)))
+        if t_new is not None and abs(t_new - t) < 1e-6:
+            return t_new
+        t = t_new
+    return t
+
+
+def fit_edges(x, dx, gap, pressure, active, trailing=None):
     """Sub-grid (left, right) edges of each contact run, in the coordinates of x (unwrapped so
-    that left < right)."""
+    that left < right).  ``trailing`` = (side, terms): the runs' trailing edges (side -1 the
+    left ones, +1 the right ones) are fitted with the viscoelastic inner layer's gap
+    (``viscous_gap``, terms [(c_j, |l_j|)] in x's units)."""
     n = x.size
     runs = contact_runs(active)
     out = []
@@ -124,7 +181,11 @@ def fit_edges(x, dx, gap, pressure, active):
                     break
                 free = i
             p_in = (float(pressure[node]), float(pressure[(node - side) % n]))
-            t = _edge(x[node], dx, g, p_in, free)
+            t = None
+            if trailing is not None and side == trailing[0] and free >= 5:
+                t = _trailing_root(g, dx, trailing[1])
+            if t is None:
+                t = _edge(x[node], dx, g, p_in, free)
             edges.append(x[node] + side * t * dx)
         right, left = edges
         if right < left:  # a run that wraps the period

@@ -170,6 +170,12 @@ class Film:
         """(width [h], weight) of each edge structure the grid must resolve ([]: none)."""
         return []
 
+    def trailing_edge_layer(self):
+        """(side, [(c_j, l_j)]) of the inner layer behind the contact's trailing edges, whose
+        gap the edge fits follow (``numerics.edges.viscous_gap``: side -1 the left edges, +1
+        the right ones; lengths l_j > 0 [h]), or None: the elastic edge (gap ~ s^{3/2})."""
+        return None
+
     def image_factor(self) -> float | None:
         """Bound of the line kernels' far field (|s| beyond ``domain_margin``) relative to this
         elastic film's, whose periodic images the solvers' measured amplitude covers: 1.0; None

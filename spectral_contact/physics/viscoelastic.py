@@ -370,6 +370,17 @@ class ViscoelasticFilm(Film):
                 return m
         return m + tail * max(math.log(100.0 * self.tail_amplitude(tail) / tol), 0.0)
 
+    def trailing_edge_layer(self):
+        """(side, [(c_j, |V| tau_r,j)]): behind the trailing edge (the left one for V > 0,
+        side -1; the right one for V < 0) the gap opens through the film's memory, glassy
+        within |V| tau_r,j of the edge, relaxed and delayed beyond (``partial_fractions``:
+        R = r + sum c_j / (1 - i k_x V tau_r,j); ``numerics.edges.viscous_gap``).  None at
+        rest."""
+        if not self.moving:
+            return None
+        _, terms = self.partial_fractions()
+        return (-1 if self.speed > 0 else 1), [(c, abs(self.speed) * tr) for c, tr in terms]
+
     def edge_scales(self) -> list[tuple[float, float]]:
         """(|V| tau_i, E_i/E_inf) per term: the widths of the edge structure each term makes
         and its weight."""

@@ -49,7 +49,7 @@ from ..numerics.interface import solve_exponential_contact
 from ..physics.scene import Scene, check_positive
 from ..result import ContactResult
 from .base import check_grid_points
-from .fft_driver import VISCO_EDGE_CELLS, VISCO_EDGE_SHARE, Level, Problem, refine, run
+from .fft_driver import Level, Problem, refine, run
 from .visco_slow import slow_sliding
 
 __all__ = ["solve_fft", "MIN_POINTS", "MAX_POINTS"]
@@ -92,10 +92,11 @@ def _locator_guess(g, P, a_bound, mu):
     return p if p.any() else np.where(np.abs(r) <= 0.5 * g.dx, P / g.dx, 0.0)
 
 
-def _contact_window(sol):
-    """(a, x_c, edges) of the solution: the envelope of its contact runs."""
+def _contact_window(sol, trailing=None):
+    """(a, x_c, edges) of the solution: the envelope of its contact runs (``trailing``: the
+    viscoelastic trailing edges' layer, ``fit_edges``)."""
     g = sol.grid
-    edges = fit_edges(g.x, g.dx, sol.gap, sol.pressure, sol.active)
+    edges = fit_edges(g.x, g.dx, sol.gap, sol.pressure, sol.active, trailing)
     if not edges:
         return 0.0, 0.0, edges
     left = min(e[0] for e in edges)
@@ -129,10 +130,12 @@ def _soft_window(sol):
     return 0.5 * (right - left), 0.5 * (right + left), [(left, right)]
 
 
-def _measure(sol, moment=False):
+def _measure(sol, moment=False, trailing=None):
     """a, x_c, d, p_max (and where), the fitted edges; with ``moment`` (a viscoelastic film) also
-    "m", the pressure's centroid (apex frame, in h): the deformation friction is (h/R) m."""
-    a, c, edges = _soft_window(sol) if getattr(sol, "soft", False) else _contact_window(sol)
+    "m", the pressure's centroid (apex frame, in h): the deformation friction is (h/R) m;
+    ``trailing``: its trailing edges' inner layer (``Problem.trailing``)."""
+    a, c, edges = _soft_window(sol) if getattr(sol, "soft", False) else \
+        _contact_window(sol, trailing)
     pm, xm = peak(sol.grid.x, sol.pressure)
     q = {"a": a, "c": c, "d": float(sol.indentations[0]), "pmax": pm, "xmax": xm,
          "edges": edges}
@@ -240,22 +243,17 @@ _MU_IMAGES_MEASURED = 10.0  # |mu| up to which _IMAGE_AMPLITUDE was measured
 _A_IMAGES_MEASURED = 8.0
 
 
-def _level_sizes(L, a, tol, grid_points, domain_length, edge_scales=()):
-    """The grid sizes of the refinement levels on the period L (in h).  ``edge_scales``
-    (viscoelastic film: (|V| tau_i, E_i/E_inf) per Prony term): a term whose edge structure
-    moves the contact by more than VISCO_EDGE_SHARE tol (weight x width / a) has its width
-    spanned by VISCO_EDGE_CELLS cells on the third level (the first that may stop; half that on
-    the second, a quarter on the first): the stop needs two level differences that converge,
-    so levels which all miss it cannot agree by chance."""
+def _level_sizes(L, a, tol, grid_points, domain_length):
+    """The grid sizes of the refinement levels on the period L (in h).  (A viscoelastic film's
+    edge structure |V| tau_i needs no cells of its own on lines: the trailing edges are fitted
+    with their inner layer, ``numerics.edges.viscous_gap``, and the levels' differences see
+    what is left; before, its width was spanned by VISCO_EDGE_CELLS cells on the third level,
+    grids 4-16 times the elastic one's at V tau/h 5e-4 - 1.6e-2: studies/README, viscoelastic,
+    **edge layer**.)"""
     if grid_points:
         return [grid_points // 2, grid_points]
     across = max(_FIRST_ACROSS, _EDGE_ERROR / tol)
     n1 = pow2_at_least(L / (2 * a / across), MIN_POINTS)
-    for width, weight in edge_scales:
-        if weight * width / a > VISCO_EDGE_SHARE * tol:
-            # VISCO_EDGE_CELLS cells on the third level (the first that may stop), so the
-            # second has half that: the level differences see the edge converge
-            n1 = max(n1, pow2_at_least(VISCO_EDGE_CELLS * L / (2 * width), MIN_POINTS))
     if n1 > MAX_POINTS and domain_length is not None:
         raise InputError(
             f"domain_length {domain_length:.4g} h needs ~{n1:.1e} grid points to resolve "
@@ -338,6 +336,9 @@ class _LineSolve:
 
     MIN_LEVELS = 3  # the estimate uses the previous difference: from the third level on
     RETRY_FINER = True
+    # the viscoelastic trailing edges are fitted with their inner layer (``_measure``): no
+    # bound of unresolved edge structure is added (``fft_driver.estimate``)
+    EDGE_LAYER_FITTED = True
 
     @property
     def ALTERNATIVE(self) -> str:  # noqa: N802 (the driver's class-level name, fft_driver)
@@ -451,7 +452,7 @@ class _LineSolve:
                 g0, locator=True, p_init=_locator_guess(g0, prob.P, a_bound, prob.mu_contact)
                 if prob.adaptive and not self.exponential else None))
             if not sol.active.all():
-                return sol, _measure(sol, prob.visco)
+                return sol, _measure(sol, prob.visco, prob.trailing)
             L0, n0 = 2.0 * L0, 2 * n0
 
     def check_period(self, q) -> None:
@@ -488,8 +489,7 @@ class _LineSolve:
                         or self.image_factor is None)
         domain_diff = 0.0
         for _attempt in range(_DOMAIN_ATTEMPTS):
-            sizes = _level_sizes(L, q["a"], tol, self.grid_points, self.domain_length,
-                                 prob.film.edge_scales() if prob.visco else ())
+            sizes = _level_sizes(L, q["a"], tol, self.grid_points, self.domain_length)
             self._L, self._center = L, center
             lv = refine(self, sizes, L, center, located)
             if not check_images or self._friction_images(lv, q, L):
@@ -500,7 +500,7 @@ class _LineSolve:
             far = prob.count(self.contact(
                 g2, p_init=np.interp(g2.x, fine.grid.x, fine.sol.pressure, period=L)
                 * (np.abs(g2.x - center) < 0.5 * L)))
-            domain_diff = _difference(_measure(far, prob.visco), fine.q0)
+            domain_diff = _difference(_measure(far, prob.visco, prob.trailing), fine.q0)
             lv.image_error = max(lv.image_error, domain_diff)
             lv.est = lv.disc + lv.image_error
             lv.domain_diff = domain_diff
@@ -579,13 +579,13 @@ class _LineSolve:
         ps[:-1] += cur.pressure[1:]
         ps[-1] += cur.pressure[0]
         ps *= 0.5
-        q0 = _measure(cur, visco)
+        q0 = _measure(cur, visco, self.prob.trailing)
         if self.prob.adaptive and not self.exponential and q0["edges"]:
             # the first active set from cur's fitted edges (the midpoint beyond an edge has
             # p > 0 but is mostly out of contact: one active-set step less)
             ps = _first_set(gs, q0["edges"], ps)
         shifted = self.contact(gs, p_init=ps)
-        q1 = _measure(shifted, visco)
+        q1 = _measure(shifted, visco, self.prob.trailing)
         self.prob.count(cur)
         self.prob.count(shifted)
         return Level(g, cur, _average(q0, q1), max(cur.residual, shifted.residual), q0=q0,

@@ -77,7 +77,8 @@ class Problem:
     sliding), P, mu_contact (mu for the exact model, 0 for Goodman's), margin (the decay margin
     for tol), accept (the residual accepted from each contact solve), friction, law (the law in
     the core's units), with_law, c (the interface compliance), rtol (the inner solves'; set by
-    the driver), counters (FFT pairs, outer and inner iterations), law_iterations.
+    the driver), counters (FFT pairs, outer and inner iterations), law_iterations, trailing
+    (``Film.trailing_edge_layer``: the edge fits' shape behind a viscoelastic contact).
     """
 
     def __init__(self, scene, model: str, tol: float, adaptive: bool = True, progress=None):
@@ -91,6 +92,8 @@ class Problem:
         self.mu_contact = scene.mu if model == "exact" else 0.0
         self.film = scene.core_film()  # lengths in h: thickness 1 (the scene's film kind)
         self.visco = self.film.moving  # a film whose symbols depend on the sliding
+        # its trailing edges' inner layer (the edge fits' shape there), or None
+        self.trailing = self.film.trailing_edge_layer()
         self.margin = self.film.domain_margin(tol)  # images ~ tol/100 x O(1)
         # residual (relative displacement / pressure / load) accepted from each contact solve:
         # far below tol, but not below what round-off allows for very wide contacts
@@ -214,12 +217,13 @@ class Levels:
 def estimate(steps, lv: Levels, cur: Level, prev: Level, lengths) -> float:
     """The error estimate of level ``cur`` (recorded in ``lv``): the dimension's
     discretisation error from the levels' difference, plus the viscoelastic film's unresolved
-    edges (relative to the contact's size), plus the periodic images' (0 where the period's
+    edges (relative to the contact's size; surfaces: lines fit the trailing edges' inner
+    layer, ``EDGE_LAYER_FITTED``), plus the periodic images' (0 where the period's
     margin keeps them ~tol/100 and out of the estimate: surfaces)."""
     prob = steps.prob
     lv.image_error = steps.image_error(cur.q, lengths)
     disc = steps.difference(lv, cur, prev)
-    if prob.visco:
+    if prob.visco and not getattr(steps, "EDGE_LAYER_FITTED", False):
         disc += unresolved_edges(prob.film.edge_scales(), steps.size(cur.q), cur.grid.spacing[0])
     lv.disc = disc
     lv.est = disc + lv.image_error
