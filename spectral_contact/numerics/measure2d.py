@@ -8,6 +8,16 @@ radius error falls steadily, ~dx^2, from 1e-2 to 3e-5 (tests/test_three_d.py); w
 holds several runs, the mean of the row-wise and column-wise integrals of the chords.  The
 extents are the envelopes of the fitted edges, refined across lines by a parabola through the
 extreme line and its neighbours.
+
+A viscoelastic film sliding along x (``trailing`` = (side, [(c_j, l_j)]),
+``Film.trailing_edge_layer``): behind its trailing edges the gap opens through the film's
+memory (``edges.viscous_gap``, the line's inner layer).  At a boundary point whose normal makes
+an angle theta with x the inner problem is the line's along the normal n with lengths
+l_j |cos theta| (the memory acts along x); along an x row (n = |cos theta| s) the gap is
+|cos theta|^{3/2} G_{l}(s): the rows' trailing edges are fitted with the lengths l_j as they
+are; along a y column (n = |sin theta| s) it is |sin theta|^{3/2} G_{l |cot theta|}(s), |cot
+theta| the slope |dy/dx| of the boundary: the columns' trailing edges are refitted with l_j
+times the slope of their first (elastic) fits.
 Lengths in the grid's unit; arrays indexed [x, y].
 """
 from __future__ import annotations
@@ -28,19 +38,43 @@ def _finite_gap(gap):
     return np.where(np.isfinite(gap), gap, 10.0 * abs(big) + 1.0)
 
 
-def _chords(coord, d, gap, p, active):
+def _chords(coord, d, gap, p, active, trailing=None):
     """Per line (axis 1 of the arrays): total chord length, first and last edge (nan if the
-    line has no contact)."""
+    line has no contact); ``trailing``: the lines' trailing edges' layer (``fit_edges``)."""
     m = active.shape[1]
     length = np.zeros(m)
     lo = np.full(m, np.nan)
     hi = np.full(m, np.nan)
     for j in np.flatnonzero(active.any(axis=0)):
-        runs = fit_edges(coord, d, gap[:, j], p[:, j], active[:, j])
+        runs = fit_edges(coord, d, gap[:, j], p[:, j], active[:, j], trailing)
         length[j] = sum(r - left for left, r in runs)
         lo[j] = min(left for left, _ in runs)
         hi[j] = max(r for _, r in runs)
     return length, lo, hi
+
+
+def _column_layer(x, y, dy, gap, p, active, length, bottom, top, trailing):
+    """The columns' trailing edges refitted with the inner layer (module docstring): a column
+    with one run whose bottom (top) edge trails, i.e. its outward normal's x component has
+    the sign of the trailing side, and whose boundary slope |dy/dx| (of the first fits) is
+    within 1 (the columns the area takes points from), gets that edge from ``fit_edges`` with
+    the lengths l_j |dy/dx|; its chord ``length`` follows.  In place."""
+    side_x, terms = trailing
+    ok = np.flatnonzero(np.isfinite(bottom))
+    if ok.size < 3:
+        return
+    for e, sigma in ((bottom, -1), (top, +1)):
+        slope = np.gradient(e[ok], x[ok])
+        for i, s in zip(ok, slope):
+            # outward normal ~ (-sigma s, sigma): trailing when -sigma s has side_x's sign
+            if not (0.0 < -sigma * s * side_x and abs(s) <= 1.0):
+                continue
+            runs = fit_edges(y, dy, gap[i], p[i], active[i],
+                             (sigma, [(c, ell * abs(s)) for c, ell in terms]))
+            if len(runs) == 1:
+                new = runs[0][0] if sigma < 0 else runs[0][1]
+                length[i] += sigma * (new - e[i])
+                e[i] = new
 
 
 def _boundary_area(x, y, left, right, bottom, top):
@@ -85,11 +119,13 @@ def _extreme(values, coord, d, largest):
     return float(best if largest else -best)
 
 
-def measure_contact_2d(grid, pressure, gap, active) -> dict:
+def measure_contact_2d(grid, pressure, gap, active, trailing=None) -> dict:
     """Contact measures of a 2D solution: ``area``, ``x_min``, ``x_max``, ``y_min``,
     ``y_max`` (envelope of the fitted edges), ``pmax`` and its position (``xmax``, ``ymax``),
     the pressure centroid ``xc`` (= Int x p / Int p), ``load`` (= Int p) and ``line_load_y0``
-    (Int p(x, y0) dx on the grid line nearest y = 0)."""
+    (Int p(x, y0) dx on the grid line nearest y = 0).  ``trailing``: a viscoelastic film's
+    trailing edges' inner layer, (side along x, [(c_j, l_j)]) in the grid's unit (module
+    docstring)."""
     x, y = grid.axes
     dx, dy = grid.spacing
     gap = _finite_gap(gap)
@@ -97,8 +133,10 @@ def measure_contact_2d(grid, pressure, gap, active) -> dict:
         return {"area": 0.0, "x_min": 0.0, "x_max": 0.0, "y_min": 0.0, "y_max": 0.0, "pmax": 0.0,
                 "xmax": 0.0, "ymax": 0.0, "xc": 0.0, "load": 0.0, "line_load_y0": 0.0}
     # rows: lines along x at each y; columns: lines along y at each x
-    len_x, left, right = _chords(x, dx, gap, pressure, active)
+    len_x, left, right = _chords(x, dx, gap, pressure, active, trailing)
     len_y, bottom, top = _chords(y, dy, gap.T, pressure.T, active.T)
+    if trailing is not None:
+        _column_layer(x, y, dy, gap, pressure, active, len_y, bottom, top, trailing)
     area = 0.5 * (len_x.sum() * dy + len_y.sum() * dx)
     single = np.allclose(len_x[np.isfinite(left)], (right - left)[np.isfinite(left)]) and \
         np.allclose(len_y[np.isfinite(bottom)], (top - bottom)[np.isfinite(bottom)])

@@ -119,8 +119,10 @@ def _extent_difference(q, r) -> float:
     return max(abs(q[k] - r[k]) for k in ("x_min", "x_max", "y_min", "y_max")) / rad
 
 
-def _measure(sol, ind) -> dict:
-    q = measure_contact_2d(sol.grid, sol.pressure, sol.gap, sol.active)
+def _measure(sol, ind, trailing=None) -> dict:
+    """The measures of ``measure_contact_2d`` (``trailing``: a viscoelastic film's trailing
+    edges' inner layer, ``Problem.trailing``) and the indentation."""
+    q = measure_contact_2d(sol.grid, sol.pressure, sol.gap, sol.active, trailing)
     q["indentation"] = float(sol.indentations[0])
     end = getattr(ind, "half_length", None)
     if end is not None:  # a sharp end is the contact's edge: the fit cannot pass it
@@ -220,7 +222,7 @@ class _SurfaceSolve:
         _check_size(self.n0, "locating the contact")
         self.prob.say(f"locating the contact on a {self.n0[0]} x {self.n0[1]} grid")
         sol = self.contact(Grid.centered(self.n0, self.L0), locator=True)
-        return sol, _measure(sol, self.ind)
+        return sol, _measure(sol, self.ind, self.prob.trailing)
 
     def refine(self, period):
         """3. the levels on the periods (``fft_driver.refine``)."""
@@ -331,7 +333,7 @@ class _SurfaceSolve:
     def solve_level(self, g, p_init, first=False):
         """A level's solve and measures; a fixed box's first level checks the user's period."""
         cur = self.contact(g, p_init=p_init)
-        q = _measure(cur, self.ind)
+        q = _measure(cur, self.ind, self.prob.trailing)
         if self.fixed_box and first:
             self.check_period(q)
         return Level(g, cur, q, cur.residual)
