@@ -12,6 +12,10 @@ speed      mu_def, half-width a, x0 and Q/P against V over 8 decades (1e-6 ... 1
 sphere     the sphere (3D, F = 1 N, mu = 0, tol 1e-2) at a few speeds: its periodic images
            along x (the same fixed grid on twice the period) and its true error (half the
            cells, twice the period along x) against the error estimates.
+sphere_cost  the sphere's cost (F = 1 N, mu = 0) against the elastic sphere at the same tol
+           (1e-2, 5e-3) at 1e-4, 1e-3, 3e-3, 1e-2 m/s (V tau/h 5e-4 ... 5e-2, where the edge
+           rule refines the grid along x): CPU times, fastest of warm interleaved runs
+           (``viscoelastic_cost._timed_pair``), grids, estimates; a refused solve is a row.
 estimate   the error estimate against the true error (a much finer, twice longer fixed grid:
            2^21 points over twice the period) over V, tol 1e-3 and 1e-4, mu 0 and 1.
 reference  small contacts (a_H/h = 0.01 ... 0.001): the film solver and the independent x-space
@@ -45,6 +49,7 @@ figure     viscoelastic.png: mu_def and a against V; the claim's changes; the ba
 from __future__ import annotations
 
 import math
+import os
 import sys
 import time
 
@@ -178,6 +183,35 @@ def part_sphere(quick: bool, out, t0) -> list[dict]:
           "period_difference: the fixed grid on twice the period along x; true_error: against "
           "half the cells on twice the period along x")
     return sph
+
+
+def part_sphere_cost(quick: bool, out, t0) -> list[dict]:
+    from .viscoelastic_cost import _timed_pair  # (it imports this module)
+    speeds = (1e-3, 1e-2) if quick else (1e-4, 1e-3, 3e-3, 1e-2)
+    rows, load0 = [], os.getloadavg()[0]
+    tols = (1e-2,) if quick else (1e-2, 5e-3)
+    for tol in tols:
+        kw = dict(indenter="sphere", force=1.0, mu=0.0, tol=tol, **FILM)
+        for V in speeds:
+            row = {"tol": tol, "speed_m_per_s": V, "V_tau_over_h": V * TAU / FILM["thickness"]}
+            try:
+                el, r, (c_el, c_v), _ = _timed_pair(lambda: solve(**kw),
+                                                    lambda: solve(speed=V, prony=SLS, **kw), 5)
+                row |= {"cpu_elastic_s": c_el, "cpu_visco_s": c_v, "time_ratio": c_v / c_el,
+                        "grid_x": r.grid_points[0], "grid_y": r.grid_points[1],
+                        "grid_x_elastic": el.grid_points[0], "error_estimate": r.error_estimate,
+                        "status": "ok"}
+            except (InputError, ConvergenceError) as exc:  # refused or not converged
+                row |= dict.fromkeys(("cpu_elastic_s", "cpu_visco_s", "time_ratio", "grid_x",
+                                      "grid_y", "grid_x_elastic", "error_estimate"), math.nan)
+                row["status"] = type(exc).__name__ + ": " + str(exc).splitlines()[0][:80]
+            rows.append(row)
+            progress(len(rows), len(tols) * len(speeds), f"sphere cost tol {tol:g} V={V:g}", t0)
+    table(rows, out / "viscoelastic_sphere_cost.csv",
+          f"Viscoelastic sphere (F = 1 N, mu 0, SLS E1 = E_inf, tau 10 ms) against the elastic one "
+          f"(E_inf), CPU time ratio (fastest of 5 warm interleaved runs); load average "
+          f"{load0:.1f} -> {os.getloadavg()[0]:.1f}")
+    return rows
 
 
 def part_estimate(quick: bool, out, t0) -> list[dict]:
@@ -465,7 +499,7 @@ def part_second(quick: bool, out, t0) -> list[dict]:
     return rows
 
 
-PARTS = ("speed", "sphere", "reference", "claim", "figure", "estimate", "images", "second")
+PARTS = ("speed", "sphere", "sphere_cost", "reference", "claim", "figure", "estimate", "images", "second")
 
 
 def main(argv=None) -> int:
@@ -481,6 +515,8 @@ def main(argv=None) -> int:
         part_speed(args.quick, out, t0)
     if "sphere" in parts:
         part_sphere(args.quick, out, t0)
+    if "sphere_cost" in parts:
+        part_sphere_cost(args.quick, out, t0)
     if "reference" in parts:
         part_reference(args.quick, out, t0)
     if "claim" in parts:
