@@ -506,8 +506,9 @@ def test_line_images_bounded_without_the_measurement():
         diff = _line_change(solve_fft(s, tol=TOL, grid_points=N, domain_length=L),
                             solve_fft(s, tol=TOL, grid_points=2 * N, domain_length=2 * L))
         assert diff <= r.info["image_error"], V
-    # (tau 1e-4 at tol 1e-3 before: that scene's refinement stagnates on 6 of 11 periods in
-    # 16.8-18.8 h, whatever the images; this one converges on 11 of 11)
+    # (tau 1e-4 at tol 1e-3 before: that scene's refinement stagnates on 8 of 11 periods in
+    # 16.8-18.8 h, whatever the images; this one, at tol 1e-2, converges on 11 of 11 in
+    # 15.3-17.3 h)
     stiff = Scene(load=load_for(1.0), mu=0.0, speed=0.01, prony=((30 * E_INF, 1e-3),), **FILM)
     assert stiff.core_film().image_factor() > 30.0
     assert solve_fft(stiff, tol=1e-2).info["domain_difference"] > 0.0

@@ -397,20 +397,20 @@ class ViscoelasticFilm(Film):
         c_j A_b (exp(-kappa d) - exp(-d/l_j))/(1 - kappa l_j) (-> c_j A_b (d/l_j) exp(-kappa d))
         plus c_j beta_j exp(-d/l_j), beta_j = y_j phi(y_j) + A_b/(1 - kappa l_j) regular (within
         1e-3 of the double pole: the mean of beta at y = t0 (1 +- 2e-3))."""
-        d = np.asarray(d, dtype=float)
+        return self._far_field(np.asarray(d, dtype=float), self._far_parts(mu))
+
+    def _far_parts(self, mu: float):
+        """(A_b, A_a, norm, r_b, r_a, [(c_j, l_j, beta_j)]) of ``line_far_field`` (computed
+        once per margin: the retardation times are a bisection)."""
         h, kappa = self.thickness, self.decay_rate
         t0 = kappa * h
         S = math.sin(2.0 * t0) + 2.0 * t0
         g0 = (math.sin(2.0 * t0) - 2.0 * t0) / (2.0 * t0)
         m = mu * (1.0 if self.speed >= 0.0 else -1.0)
         Ab, Aa = (g0 + m * t0) / (2.0 * S), (g0 - m * t0) / (2.0 * S)
-        norm = max(abs(Ab), abs(Aa))
-        el = np.exp(-kappa * d)
-        if not self.moving:
-            return Ab * el / norm, Aa * el / norm
-        r, terms = self.partial_fractions()
+        r, terms = self.partial_fractions() if self.moving else (1.0, [])
         r_b = r_a = r
-        behind = np.zeros(d.shape)
+        tails = []
         for c, tr in terms:
             length = abs(self.speed) * tr
             kl = kappa * length
@@ -419,15 +419,22 @@ class ViscoelasticFilm(Film):
                 r_b += c / (1.0 - kl)
                 continue
             y = h / length
-            x = (1.0 - kl) * d / length  # (exp(-kappa d) - exp(-d/l))/(1 - kappa l)
+            beta = (0.5 * sum(_tail_beta(t0 * (1.0 + e), t0, m, Ab) for e in (2e-3, -2e-3))
+                    if abs(y / t0 - 1.0) < 1e-3 else _tail_beta(y, t0, m, Ab))
+            tails.append((c, length, beta))
+        return Ab, Aa, max(abs(Ab), abs(Aa)), r_b, r_a, tails
+
+    def _far_field(self, d, parts):
+        """``line_far_field`` at the array ``d`` from ``_far_parts``."""
+        Ab, Aa, norm, r_b, r_a, tails = parts
+        kappa = self.decay_rate
+        el = np.exp(-kappa * d)
+        behind = r_b * Ab * el
+        for c, length, beta in tails:
+            x = (1.0 - kappa * length) * d / length  # (exp(-kappa d) - exp(-d/l))/(1 - kappa l)
             xs = np.where(np.abs(x) > 1e-12, x, 1.0)
             meet = el * (d / length) * np.where(np.abs(x) > 1e-12, -np.expm1(-xs) / xs, 1.0)
-            if abs(y / t0 - 1.0) < 1e-3:
-                beta = 0.5 * sum(_tail_beta(t0 * (1.0 + e), t0, m, Ab) for e in (2e-3, -2e-3))
-            else:
-                beta = _tail_beta(y, t0, m, Ab)
-            behind += c * (Ab * meet + beta * np.exp(-d / length))
-        behind += r_b * Ab * el
+            behind = behind + c * (Ab * meet + beta * np.exp(-d / length))
         return behind / norm, r_a * Aa * el / norm
 
     def line_margin(self, tol: float, mu: float = 0.0, size: float | None = None) -> float:
@@ -461,43 +468,30 @@ class ViscoelasticFilm(Film):
         target = 1e-2 * tol * stiff
         step = h / 20.0
         # the monotone bound's end: double the trial length until it is below the target
-        d_hi = max(self.domain_margin(tol), 2.0 * h)
+        parts = self._far_parts(mu)
+        d_hi = max(math.log(100.0 / tol) / self.decay_rate, 2.0 * h)  # the elastic margin
         for _ in range(60):
-            if self._far_bound(d_hi, mu) <= target:
+            if self._far_bound(d_hi, parts) <= target:
                 break
             d_hi *= 2.0
         d = np.arange(0.0, d_hi + step, step)
-        behind, ahead = self.line_far_field(d, mu)
+        behind, ahead = self._far_field(d, parts)
         above = np.nonzero(np.maximum(np.abs(behind), np.abs(ahead)) > target)[0]
         return float(d[above[-1] + 1]) if above.size else 0.0
 
-    def _far_bound(self, d: float, mu: float) -> float:
+    def _far_bound(self, d: float, parts) -> float:
         """An upper bound of |``line_far_field``| at every distance >= d >= the longest
-        unsummed tail and 1/kappa (each term's modulus, decreasing there)."""
-        h, kappa = self.thickness, self.decay_rate
-        t0 = kappa * h
-        S = math.sin(2.0 * t0) + 2.0 * t0
-        g0 = (math.sin(2.0 * t0) - 2.0 * t0) / (2.0 * t0)
-        m = mu * (1.0 if self.speed >= 0.0 else -1.0)
-        Ab, Aa = (g0 + m * t0) / (2.0 * S), (g0 - m * t0) / (2.0 * S)
-        r, terms = self.partial_fractions()
+        unsummed tail and 1/kappa (each term's modulus, decreasing there; ``_far_parts``)."""
+        Ab, Aa, norm, r_b, r_a, tails = parts
+        kappa = self.decay_rate
         el = math.exp(-kappa * d)
-        r_b, r_a, rest = r, r, 0.0
-        for c, tr in terms:
-            length = abs(self.speed) * tr
-            kl = kappa * length
-            r_a += c / (1.0 + kl)
-            if kl >= TAIL_CORRECTED:
-                r_b += c / (1.0 - kl)
-                continue
+        rest = 0.0
+        for c, length, beta in tails:
             if d < length or d < 1.0 / kappa:
                 return math.inf
-            y = h / length
-            beta = (0.5 * sum(_tail_beta(t0 * (1.0 + e), t0, m, Ab) for e in (2e-3, -2e-3))
-                    if abs(y / t0 - 1.0) < 1e-3 else _tail_beta(y, t0, m, Ab))
             rest += abs(c) * (abs(Ab) * (d / length) * math.exp(-min(kappa, 1.0 / length) * d)
                               + abs(beta) * math.exp(-d / length))
-        return max(abs(r_b * Ab) * el + rest, abs(r_a * Aa) * el) / max(abs(Ab), abs(Aa))
+        return max(abs(r_b * Ab) * el + rest, abs(r_a * Aa) * el) / norm
 
     def trailing_edge_layer(self):
         """(side, [(c_j, |V| tau_r,j)]): behind the trailing edge (the left one for V > 0,
