@@ -41,6 +41,7 @@ import warnings
 import numpy as np
 
 from ..errors import ConvergenceError, InputError, named
+from ..numerics.blas_threads import single_blas_thread
 from ..numerics.contact import refine_nested
 from ..numerics.edges import fit_edges, peak
 from ..numerics.fft import get_rfft
@@ -295,6 +296,7 @@ def _check_fixed(grid_points, domain_length):
     return grid_points, domain_length
 
 
+@single_blas_thread()  # (the GMRES bases' products, the centroid's dot: numerics.blas_threads)
 def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points: int | None = None,
               domain_length: float | None = None, progress=None) -> ContactResult:
     """Solve ``scene`` with the spectral method.
