@@ -1,0 +1,60 @@
+"""Where a viscoelastic line solve's FFT pairs go (issue 23's cost): the solves beside the
+levels start where they can (studies/README, viscoelastic, cost)."""
+import numpy as np
+
+from spectral_contact.numerics.contact import solve_contact
+from spectral_contact.numerics.grid import Grid
+from spectral_contact.physics.scene import Scene
+from spectral_contact.solvers import fft as fft_solver
+from spectral_contact.solvers.fft import solve_fft
+
+E_INF = 2.2e6
+SLS = ((E_INF, 0.01),)
+FILM = {"young": E_INF, "thickness": 0.002, "radius": 0.130}
+
+
+def test_contact_solve_from_its_solution_and_indentation_takes_no_gmres_iteration():
+    """``d_init``: started from a converged pressure and its indentation, a contact solve
+    checks the state (one transform) instead of re-solving from d = 0 (the whole gap as the
+    first residual)."""
+    scene = Scene(load=200.0, mu=2.0, speed=0.1, prony=SLS, **FILM)  # the paper's, sliding
+    film = scene.core_film()
+    ind = [scene.indenter_object()]
+    g = Grid.centered(1024, 24.0, 0.5)
+    ref = solve_contact(g, 2.0, ind, film=film, rtol=1e-9, accept=1e-6)
+    cold = solve_contact(g, 2.0, ind, film=film, p_init=ref.pressure, rtol=1e-9, accept=1e-6)
+    warm = solve_contact(g, 2.0, ind, film=film, p_init=ref.pressure, rtol=1e-9, accept=1e-6,
+                         d_init=ref.indentations)
+    assert cold.krylov_iterations >= 4
+    assert warm.krylov_iterations == 0 and warm.fft_pairs == 1 and warm.iterations == 1
+    assert np.array_equal(warm.active, ref.active)
+    assert abs(warm.indentations[0] - ref.indentations[0]) <= 1e-9 * abs(ref.indentations[0])
+
+
+def test_measured_images_start_from_the_final_level(monkeypatch):
+    """A viscoelastic line whose images are measured (a_H/h 1 at 0.1 m/s: kappa l_r = 0.74,
+    no bound) solves the final level's nodes on twice the period from that level's pressure
+    and indentation: fewer FFT pairs there than from d = 0, the measured difference the same
+    to the solves' own accuracy.  (On the period of the added margins the images were below
+    the solves' rtol: 1 pair against 18; on the far-field margin, ``line_margin``, they are
+    2.7e-7: 12 against 16.)"""
+    seen = []
+    real = fft_solver._LineSolve.contact
+
+    def spy(self, grid, *args, **kwargs):
+        sol = real(self, grid, *args, **kwargs)
+        seen.append((grid.n, sol.fft_pairs))
+        return sol
+
+    monkeypatch.setattr(fft_solver._LineSolve, "contact", spy)
+    load = 2.0 * np.pi * Scene(**FILM).stress_unit * Scene(**FILM).length_unit  # a_H = h
+    scene = Scene(load=load, mu=0.0, speed=0.1, prony=SLS, **FILM)
+    r = solve_fft(scene, tol=1e-4)
+    n_final, pairs_far = seen[-1]
+    assert n_final == 2 * r.grid_points  # the images' solve: the final nodes over 2L
+    # the same solve with the images' solve started from d = 0
+    monkeypatch.setattr(fft_solver._LineSolve, "contact",
+                        lambda self, grid, *a, d_init=None, **k: spy(self, grid, *a, **k))
+    cold = solve_fft(scene, tol=1e-4)
+    assert seen[-1][0] == n_final and seen[-1][1] > pairs_far
+    assert abs(cold.info["domain_difference"] - r.info["domain_difference"]) < 1e-9
