@@ -444,7 +444,8 @@ class ViscoelasticFilm(Film):
             x = (1.0 - kappa * length) * d / length  # (exp(-kappa d) - exp(-d/l))/(1 - kappa l)
             xs = np.where(np.abs(x) > 1e-12, x, 1.0)
             meet = el * (d / length) * np.where(np.abs(x) > 1e-12, -np.expm1(-xs) / xs, 1.0)
-            behind = behind + c * (Ab * meet + beta * np.exp(-d / length))
+            # (the exponent capped at 700: exp underflows slowly, to 0 beyond 745)
+            behind = behind + c * (Ab * meet + beta * np.exp(-np.minimum(d / length, 700.0)))
         return behind / norm, r_a * Aa * el / norm
 
     def line_margin(self, tol: float, mu: float = 0.0, size: float | None = None) -> float:
@@ -466,10 +467,13 @@ class ViscoelasticFilm(Film):
         the tail's decay sets it (l ln(amplitude/tol)); near kappa l = 1 the double pole's
         d exp(-kappa d).  (Was ``domain_margin``: the elastic margin plus l ln(100 A/tol),
         the two decays added: periods 1.2-1.7 times the elastic one at kappa l 0.2-0.8;
-        studies/README, viscoelastic, images.)  On a grid of h/20 up to where a monotone
-        bound of the far field (each term's modulus, the double pole's bounded by d/l
-        exp(-min(kappa, 1/l) d)) is below the target; the images are then bounded
-        (``image_factor``) or measured as before (``solvers.fft``)."""
+        studies/README, viscoelastic, images.)  The last crossing of the target on a grid of
+        h/20 (up to where a monotone bound of the far field, each term's modulus, the double
+        pole's bounded by d/l exp(-min(kappa, 1/l) d), is below it), then within that step
+        log-linearly (checked: the step's end where it falls short), so that the period moves
+        with the physics only (rounded to h/20, a slow film's period moved by up to 0.05 h
+        from the elastic one, and the final grids with it: studies/README).  The images are
+        then bounded (``image_factor``) or measured as before (``solvers.fft``)."""
         if not self.moving:
             return self.domain_margin(tol)
         h = self.thickness
@@ -486,8 +490,17 @@ class ViscoelasticFilm(Film):
             d_hi *= 2.0
         d = np.arange(0.0, d_hi + step, step)
         behind, ahead = self._far_field(d, parts)
-        above = np.nonzero(np.maximum(np.abs(behind), np.abs(ahead)) > target)[0]
-        return float(d[above[-1] + 1]) if above.size else 0.0
+        far = np.maximum(np.abs(behind), np.abs(ahead))
+        above = np.nonzero(far > target)[0]
+        if not above.size:
+            return 0.0
+        # the last crossing within its step, log-linear (the far field is exponential there):
+        # no h/20 rounding; the grid's point beyond it should the interpolation fall short
+        k = above[-1]
+        f0, f1 = math.log(far[k]), math.log(max(far[k + 1], 1e-300))
+        m = float(d[k] + step * (f0 - math.log(target)) / (f0 - f1))
+        b, a = self._far_field(np.array([m]), parts)
+        return m if max(abs(b[0]), abs(a[0])) <= target * (1.0 + 1e-9) else float(d[k + 1])
 
     def _far_bound(self, d: float, parts) -> float:
         """An upper bound of |``line_far_field``| at every distance >= d >= the longest
