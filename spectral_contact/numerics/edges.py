@@ -129,9 +129,6 @@ def viscous_gap(s, terms):
     return out
 
 
-_NODES = np.arange(2.0, 6.0)  # the 2nd..5th nodes outside, as the elastic fit
-
-
 def _departure(t, dx, terms):
     """rho(s) = viscous_gap(s) / ((2/3) s^{3/2}) at the 2nd..5th nodes' distances s = (k - t)
     dx from a root t cells out (``_trailing_root``): ``viscous_gap``'s operations on Python
