@@ -296,7 +296,9 @@ def _check_fixed(grid_points, domain_length):
     return grid_points, domain_length
 
 
-@single_blas_thread()  # (the GMRES bases' products, the centroid's dot: numerics.blas_threads)
+# (the GMRES bases' products, the centroid's dot: numerics.blas_threads; numpy's build, no
+# import of scipy.linalg for its own: the line solve uses none of it)
+@single_blas_thread(load_scipy=False)
 def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points: int | None = None,
               domain_length: float | None = None, progress=None) -> ContactResult:
     """Solve ``scene`` with the spectral method.
