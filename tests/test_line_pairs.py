@@ -75,3 +75,16 @@ def test_friction_images_relaxed_solve_extrapolates_its_shrinking_ends(monkeypat
     pairs, d_el = seen[0]
     assert pairs <= 56
     assert abs(d_el - 1.672801) < 1e-5  # the relaxed film's indentation [h] (to 8 digits before)
+
+
+def test_slow_path_counts_both_elastic_solves():
+    """The slow-sliding path that runs the relaxed elastic solve twice (a_H/h 1 at 3.16e-4
+    m/s, tol 1e-4: the first's estimate plus the remainder 1.01e-4 > tol) reports the work of
+    both (126 + 127 FFT pairs; it reported the second's alone)."""
+    load = 2.0 * np.pi * Scene(**FILM).stress_unit * Scene(**FILM).length_unit  # a_H = h
+    scene = Scene(load=load, mu=0.0, speed=3.16e-4, prony=SLS, **FILM)
+    r = solve_fft(scene, tol=1e-4)
+    el = solve_fft(Scene(load=load, mu=0.0, **FILM), tol=1e-4)
+    assert "slow_sliding" in r.info
+    assert r.counters["transforms"] > 1.8 * el.counters["transforms"]
+    assert r.info["fft_pairs"] == r.counters["transforms"]
