@@ -34,23 +34,26 @@ def test_contact_solve_from_its_solution_and_indentation_takes_no_gmres_iteratio
 def test_measured_images_start_from_the_final_level(monkeypatch):
     """A viscoelastic line whose images are measured (a_H/h 1 at 0.1 m/s: kappa l_r = 0.74,
     no bound) solves the final level's nodes on twice the period from that level's pressure
-    and indentation: 1 FFT pair there (18 from d = 0), the measured difference the same to
-    the solves' own accuracy."""
+    and indentation: fewer FFT pairs than from d = 0 (1 against 18 on the period before the
+    far-field margin; 12 against 16 on the shorter one, whose images are larger)."""
     seen = []
     real = fft_solver._LineSolve.contact
 
     def spy(self, grid, *args, **kwargs):
         sol = real(self, grid, *args, **kwargs)
-        seen.append((grid.n, sol.fft_pairs))
+        cold = None
+        if kwargs.get("d_init") is not None:  # the same solve from d = 0, for comparison
+            cold = real(self, grid, *args, **{**kwargs, "d_init": None}).fft_pairs
+        seen.append((grid.n, sol.fft_pairs, cold))
         return sol
 
     monkeypatch.setattr(fft_solver._LineSolve, "contact", spy)
     load = 2.0 * np.pi * Scene(**FILM).stress_unit * Scene(**FILM).length_unit  # a_H = h
     r = solve_fft(Scene(load=load, mu=0.0, speed=0.1, prony=SLS, **FILM), tol=1e-4)
-    n_final, pairs_far = seen[-1]
+    n_final, pairs_far, pairs_cold = seen[-1]
     assert n_final == 2 * r.grid_points  # the images' solve: the final nodes over 2L
-    assert r.info["domain_difference"] < 1e-8
-    assert pairs_far <= 3
+    assert r.info["domain_difference"] < 0.25e-4  # (within the tol/4 the images may take)
+    assert pairs_far < pairs_cold
 
 
 def test_friction_images_relaxed_solve_extrapolates_its_shrinking_ends(monkeypatch):
@@ -74,7 +77,9 @@ def test_friction_images_relaxed_solve_extrapolates_its_shrinking_ends(monkeypat
     assert "friction_images_bound" in r.info and len(seen) == 1
     pairs, d_el = seen[0]
     assert pairs <= 56
-    assert abs(d_el - 1.672801) < 1e-5  # the relaxed film's indentation [h] (to 8 digits before)
+    # the relaxed film's converged indentation: d_el within the 2.2e-4 the bound allows for
+    d_conv = solve_fft(Scene(load=200.0, mu=2.0, **FILM), tol=1e-6).indentation
+    assert abs(d_el - d_conv) < 2.2e-4 * d_conv
 
 
 def test_slow_path_counts_both_elastic_solves():

@@ -4,8 +4,10 @@
 2. The period is set to L = 2a + ln(100/tol)/kappa (+ a small guard), with kappa = 0.739/h the
    slowest decay rate of the film's kernels, so periodic images perturb the solution by
    ~tol/100 (times an amplitude of order 1: measured up to ~1.3 at mu = 10).  A viscoelastic
-   film adds its relaxation tails shorter than 2.7 h (V tau_r ln(100 A/tol)); the longer
-   ones' images are summed exactly by the operator (numerics.operators.tail_terms).
+   film: the free length beyond which its kernel's far field (the elastic poles times R there,
+   the relaxation tails shorter than 2.7 h), over the located contact's stiffness |R(1/a)|,
+   stays below the elastic film's at its margin (``ViscoelasticFilm.line_margin``); the
+   longer tails' images are summed exactly by the operator (numerics.operators.tail_terms).
 3. The grid is doubled (N = 2^m, same period, nested nodes, each level started from the previous
    solution) until the estimate from the levels' differences (_discretisation_error) is below
    ``tol``, from the third level on.
@@ -371,14 +373,23 @@ class _LineSolve:
         # mu 2: d = 0.11 against 1.67; 0.1 m/s: d < 0), where the images' offset of d was 5.6
         # exp(-kappa free) of d against the elastic film's 1.0: 1.6 times the bound
         # (studies/README, viscoelastic, images); frictionless, d stays within the 1/r.
+        self._set_margin(None)
+
+    def _set_margin(self, size) -> None:
+        """The period's margin and the images' factors (a viscoelastic film: its margin from
+        its far field against the stiffness of a contact of half-width ``size``, None: the
+        relaxed film's, for the locator; ``ViscoelasticFilm.line_margin``)."""
+        prob = self.prob
         self.image_factor = prob.film.image_factor() if prob.mu_contact == 0.0 or \
             not prob.visco else None
         # with friction: the same factor, times max(1, d_el/d) once the solve's d is known
         # (``_friction_images``); else measured
         self.friction_factor = prob.film.image_factor() if prob.visco and \
             prob.mu_contact != 0.0 else None
-        if prob.visco:  # the long relaxation tails' images are summed exactly (tail_terms)
-            prob.margin = prob.film.domain_margin(prob.tol, tails_corrected=True)
+        if prob.visco:  # the long relaxation tails' images are summed exactly (tail_terms);
+            # the far field of the rest relative to the contact's stiffness as small as the
+            # elastic film's at its margin
+            prob.margin = prob.film.line_margin(prob.tol, prob.mu_contact, size)
             decay = math.exp(-prob.film.decay_rate * prob.margin)
             if self.image_factor is not None and self.image_amplitude * self.image_factor * \
                     decay > 0.25 * prob.tol:
@@ -485,6 +496,8 @@ class _LineSolve:
         sol, q = located
         prob, tol = self.prob, self.prob.tol
         guard = 4 * sol.grid.dx
+        if prob.visco and self.domain_length is None:  # the margin for this contact's size
+            self._set_margin(q["a"])
         L = self.domain_length or (2 * q["a"] + prob.margin + guard)
         center = q["c"] if self.domain_length is None else 0.0
         # (a viscoelastic film: its images are measured too unless its far field is bounded
