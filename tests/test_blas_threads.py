@@ -96,3 +96,31 @@ def test_line_fft_solve_runs_under_one_thread():
     finally:
         for (_, s), n in zip(libs, before):
             s(n)
+
+
+def test_line_fft_solve_holds_numpys_build_without_importing_scipy_linalg():
+    """In a process that has not imported scipy.linalg, the line solve holds numpy's OpenBLAS
+    at one thread without importing scipy.linalg for its build (~60 ms once per process: the
+    CLI's single solves), and gives the count back."""
+    import subprocess
+    import sys
+
+    code = """
+import sys
+from spectral_contact.numerics import blas_threads
+from spectral_contact.physics.scene import Scene
+from spectral_contact.solvers.fft import solve_fft
+libs = blas_threads._openblas_libraries()  # the builds loaded now (numpy's)
+if not libs or "scipy.linalg" in sys.modules:
+    print("skip"); raise SystemExit
+libs[0][1](2)
+seen = []
+solve_fft(Scene(load=200.0, mu=2.0), tol=1e-3,
+          progress=lambda line: seen.append(int(libs[0][0]())))
+print(seen and all(n == 1 for n in seen), int(libs[0][0]()), "scipy.linalg" in sys.modules)
+"""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.split()
+    if out == ["skip"]:
+        pytest.skip("no OpenBLAS library found, or scipy.linalg imported at startup")
+    assert out == ["True", "2", "False"]

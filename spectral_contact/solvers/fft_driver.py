@@ -121,14 +121,17 @@ class Problem:
                     LOCATOR_SEARCH_RTOL)
         return self.rtol, self.accept, None
 
-    def solve_contact(self, grid, indenters, film, p_init=None, locator=False, d_init=None):
+    def solve_contact(self, grid, indenters, film, p_init=None, locator=False, d_init=None,
+                      extrapolate=None):
         """One contact solve on ``grid`` (Amontons, or the law / interface's fixed point; a
-        proportional law stays Amontons bit for bit).  ``d_init``: the first indentations
-        (Amontons; ``numerics.contact.solve_complementarity``)."""
+        proportional law stays Amontons bit for bit).  ``d_init``: the first indentations,
+        ``extrapolate``: the shrinking sets' ends extrapolated (Amontons; both only change the
+        path: ``numerics.contact.solve_complementarity``)."""
         rt, acc, search = self.tolerances(locator)
         if not self.with_law and self.c == 0.0:
             return solve_contact(grid, self.mu_contact, indenters, film=film, p_init=p_init,
-                                 rtol=rt, accept=acc, search_rtol=search, d_init=d_init)
+                                 rtol=rt, accept=acc, search_rtol=search, d_init=d_init,
+                                 extrapolate=extrapolate)
         law = self.law if self.with_law else ShearLaw("amontons", mu=self.mu_contact)
         s_, _, li = solve_contact_law(grid, law, indenters, film=film, interface=self.c,
                                       p_init=p_init, accept=acc, rtol=rt, law_tol=self.accept,
