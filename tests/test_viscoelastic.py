@@ -523,9 +523,12 @@ def test_line_images_bounded_without_the_measurement():
         diff = _line_change(solve_fft(s, tol=TOL, grid_points=N, domain_length=L),
                             solve_fft(s, tol=TOL, grid_points=2 * N, domain_length=2 * L))
         assert diff <= r.info["image_error"], V
-    stiff = Scene(load=load_for(1.0), mu=0.0, speed=0.01, prony=((30 * E_INF, 1e-4),), **FILM)
+    # (tau 1e-4 at tol 1e-3 before: that scene's refinement stagnates on 8 of 11 periods in
+    # 16.8-18.8 h, whatever the images; this one, at tol 1e-2, converges on 11 of 11 in
+    # 15.3-17.3 h)
+    stiff = Scene(load=load_for(1.0), mu=0.0, speed=0.01, prony=((30 * E_INF, 1e-3),), **FILM)
     assert stiff.core_film().image_factor() > 30.0
-    assert solve_fft(stiff, tol=TOL).info["domain_difference"] > 0.0
+    assert solve_fft(stiff, tol=1e-2).info["domain_difference"] > 0.0
     rubbing = Scene(load=200.0, mu=2.0, speed=0.316, prony=((10 * E_INF, 0.01),), **FILM)
     assert rubbing.core_film().image_factor() < 2.0
     assert solve_fft(rubbing, tol=TOL).info["domain_difference"] > 0.0
@@ -682,3 +685,104 @@ def test_cost_study_tolerances(tmp_path, capsys):
         assert e.value.code == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and "--tol" in err[0]
+
+
+@pytest.mark.parametrize("kl,mu,sign", [(0.074, 0.0, 1.0), (0.74, 2.0, 1.0), (0.74, 2.0, -1.0),
+                                        (1.0, 0.0, 1.0), (1.48, -1.0, 1.0), (4.4, 0.0, 1.0)])
+def test_line_far_field_is_the_kernels(kl, mu, sign):
+    """``ViscoelasticFilm.line_far_field`` (the residues at the elastic poles times R there and
+    at the tails' poles; at kappa l = 1 the double pole) is the line kernel's far field: the
+    inverse FFT of H R on 2^18 points over 250 h, 5-10 h behind and ahead of the load, to
+    1e-3 (6e-4 at 5 h: the next elastic poles, |Im k| h = 2.49, left out).  The summed tail
+    (kappa l = 4.4) without its own pole: behind only the elastic pole's R(-i kappa); the
+    kernel behind is that plus the tail's c B exp(-d/l)/l."""
+    kappa = 0.7390851332151607
+    f = ViscoelasticFilm(thickness=1.0, relaxed_young=1.0, prony=((1.0, 1.0),),
+                         speed=sign * kl / (2.0 * kappa))  # tau_r = 2: l = 2 |V|
+    n, L = 2**18, 250.0
+    k = 2.0 * np.pi * np.fft.fftfreq(n, L / n)
+    kernel = np.fft.ifft(f.surface_compliance((np.sign(k), 0.0), np.abs(k), mu)).real * n / L
+    idx = np.rint(np.array([5.0, 7.5, 10.0]) * n / L).astype(int)  # s = +d at idx, -d at -idx
+    d = idx * (L / n)
+    behind, ahead = f.line_far_field(d, mu)
+    g0 = (math.sin(2 * kappa) - 2 * kappa) / (2 * kappa)
+    norm = (abs(g0) + abs(mu) * kappa) / (2.0 * (math.sin(2 * kappa) + 2 * kappa))
+    num_behind = (kernel[-idx] if sign > 0 else kernel[idx]) / norm
+    num_ahead = (kernel[idx] if sign > 0 else kernel[-idx]) / norm
+    assert np.allclose(num_ahead, ahead, rtol=1e-3, atol=0)
+    if kl < 2.0:
+        assert np.allclose(num_behind, behind, rtol=1e-3, atol=0)
+    else:  # the tail's own pole, c B exp(-d/l)/l, is the difference
+        tail = f.tail_poles(mu)[0]
+        own = tail[1](np.zeros(1))[0] * np.exp(-d / abs(tail[0])) / abs(tail[0]) / norm
+        assert np.allclose(num_behind, behind + own, rtol=1e-3, atol=0)
+
+
+def test_line_margin():
+    """``ViscoelasticFilm.line_margin``: the elastic film's margin at rest; the kernel's far
+    field beyond it is below tol/100 of the elastic amplitude (and just above it before the
+    margin); the decays do not add: at kappa l_r = 0.74 (0.1 m/s on the study's SLS) it is
+    within 1.5 h of the elastic ln(100/tol)/kappa (ln|R(-i kappa)|/kappa = 1.2 h, R = 2.4) where
+    the added margin was 13 h longer."""
+    kappa = 0.7390851332151607
+    rest = ViscoelasticFilm(thickness=1.0, relaxed_young=1.0, prony=((1.0, 1.0),), speed=0.0)
+    assert rest.line_margin(1e-4, 2.0) == Film().domain_margin(1e-4)
+    for kl in (0.074, 0.3, 0.74, 1.0, 1.5, 3.0):
+        for mu in (0.0, 2.0, -2.0):
+            f = ViscoelasticFilm(thickness=1.0, relaxed_young=1.0, prony=((1.0, 1.0),),
+                                 speed=kl / (2.0 * kappa))
+            m = f.line_margin(1e-4, mu)
+            d = np.linspace(m, m + 60.0, 3001)
+            assert np.abs(f.line_far_field(d, mu)).max() <= 1e-6 * (1.0 + 1e-8)
+            assert np.abs(f.line_far_field(np.array([m - 0.05]), mu)).max() > 1e-6
+    f = ViscoelasticFilm(thickness=1.0, relaxed_young=1.0, prony=((1.0, 1.0),),
+                         speed=0.74 / (2.0 * kappa))
+    elastic = math.log(100.0 / 1e-4) / kappa
+    assert f.line_margin(1e-4) < elastic + 1.5
+    assert f.domain_margin(1e-4, tails_corrected=True) > elastic + 13.0
+
+
+@pytest.mark.parametrize("load_h,mu,V", [(1.0, 0.0, 0.0316), (1.0, 0.0, 0.1), (None, 2.0, 0.0316),
+                                         (None, 2.0, 0.1), (3.0, 0.0, -0.1)])
+def test_line_period_near_the_elastic_one(load_h, mu, V):
+    """At retardation lengths 0.3-1 h (0.0316 and 0.1 m/s on the study's SLS: kappa l_r 0.23,
+    0.74) the automatic line period is within 1.06 of the elastic film's (it was 1.2 and 1.6
+    times it: the tail's margin l ln(100 A/tol) added to the elastic one), and the images on
+    it stay within the estimate's image term: the solve's own fixed grid on its period against
+    2N points on twice it."""
+    from spectral_contact.solvers.fft import solve_fft
+    from studies.viscoelastic import FILM, _line_change, load_for
+
+    load = 200.0 if load_h is None else load_for(load_h)
+    el = solve_fft(Scene(load=load, mu=mu, **FILM), tol=TOL)
+    s = Scene(load=load, mu=mu * (1.0 if V > 0 else -1.0), speed=V, prony=SLS, **FILM)
+    r = solve_fft(s, tol=TOL)
+    assert r.domain_length < 1.12 * el.domain_length, r.domain_length / el.domain_length
+    N, L = r.grid_points, r.domain_length
+    diff = _line_change(solve_fft(s, tol=TOL, grid_points=N, domain_length=L),
+                        solve_fft(s, tol=TOL, grid_points=2 * N, domain_length=2 * L))
+    assert diff <= r.info["image_error"]
+    assert r.error_estimate <= TOL
+
+
+def test_full_path_meets_the_slow_sliding_theory():
+    """Two independent routes to slow sliding agree: the first-order theory (solvers.visco_slow,
+    from Hunter's closed form: the relaxed elastic contact, trailing edge in by delta, pressure
+    translated by delta) and the full viscoelastic solve on a fixed grid whose cells are 80
+    times V tau (a_H/h 1 at 1e-5 m/s, 4096 points), its trailing edge fitted with the inner
+    layer: a, x_c, the centroid within 1e-5 of a, d and p_max within 1e-5 (measured up to
+    3.4e-6, the sub-cell edge fits' noise on nodes placed differently; the automatic full
+    path, on the slow path's own grid, within 6e-7).  With the elastic edge fit the trailing
+    edge sits delta further out: a 3.1e-5 off."""
+    from studies.viscoelastic import FILM, load_for
+    kw = dict(load=load_for(1.0), mu=0.0, tol=1e-4, speed=1e-5, prony=SLS, **FILM)
+    slow = solve(**kw)
+    assert "slow_sliding" in slow.info
+    full = solve(**kw, grid_points=4096, domain_length=slow.domain_length * FILM["thickness"])
+    assert "slow_sliding" not in full.info
+    a = slow.half_width
+    assert abs(full.half_width - a) / a < 1e-5
+    assert abs(full.center - slow.center) / a < 1e-5
+    assert abs(full.info["pressure_centroid"] - slow.info["pressure_centroid"]) / a < 1e-5
+    assert abs(full.indentation - slow.indentation) / slow.indentation < 1e-5
+    assert abs(full.max_pressure - slow.max_pressure) / slow.max_pressure < 1e-5

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import ctypes
 import functools
+import sys
 import threading
 
 __all__ = ["single_blas_thread", "blas_thread_counts"]
@@ -30,7 +31,7 @@ __all__ = ["single_blas_thread", "blas_thread_counts"]
 _PREFIXES = ("scipy_openblas", "openblas")
 _SUFFIXES = ("64_", "", "_64_", "_")
 _lock = threading.Lock()
-_state = {"depth": 0, "saved": [], "libs": None}
+_state = {"depth": 0, "saved": [], "held": [], "libs": None, "light": None}
 
 
 def _openblas_libraries():
@@ -69,7 +70,17 @@ def _openblas_libraries():
     return out
 
 
-def _libraries():
+def _libraries(load_scipy: bool = True):
+    """The OpenBLAS builds' (get, set) functions: numpy's and scipy's (scipy.linalg imported
+    first, so that its build is loaded).  ``load_scipy`` False (the line solver, which uses
+    no scipy BLAS): without importing scipy.linalg (~60 ms, once per process) when it is not
+    imported yet, the builds loaded now (numpy's)."""
+    if not load_scipy and _state["libs"] is None and "scipy.linalg" not in sys.modules:
+        if _state["light"] is None:
+            import numpy  # noqa: F401
+
+            _state["light"] = _openblas_libraries()
+        return _state["light"]
     if _state["libs"] is None:
         import numpy  # noqa: F401  (load numpy's and scipy's BLAS before looking)
         import scipy.linalg  # noqa: F401
@@ -84,10 +95,13 @@ def blas_thread_counts() -> list[int]:
 
 
 class _SingleBlasThread:
+    def __init__(self, load_scipy: bool = True):
+        self.load_scipy = load_scipy
+
     def __enter__(self):
         with _lock:
             if _state["depth"] == 0:
-                libs = _libraries()
+                libs = _state["held"] = _libraries(self.load_scipy)
                 _state["saved"] = [int(g()) for g, _ in libs]
                 for (_, s), n in zip(libs, _state["saved"]):
                     if n != 1:
@@ -98,8 +112,8 @@ class _SingleBlasThread:
     def __exit__(self, *exc):
         with _lock:
             _state["depth"] -= 1
-            if _state["depth"] == 0:
-                for (_, s), n in zip(_libraries(), _state["saved"]):
+            if _state["depth"] == 0:  # (the builds held on entry: the list may have grown)
+                for (_, s), n in zip(_state["held"], _state["saved"]):
                     if n != 1:
                         s(n)
         return False
@@ -113,7 +127,8 @@ class _SingleBlasThread:
         return wrapped
 
 
-def single_blas_thread() -> _SingleBlasThread:
+def single_blas_thread(load_scipy: bool = True) -> _SingleBlasThread:
     """A context manager (and decorator) holding the process's OpenBLAS at one thread (module
-    docstring)."""
-    return _SingleBlasThread()
+    docstring); ``load_scipy`` False: the builds already loaded, without importing
+    scipy.linalg for its own (``_libraries``)."""
+    return _SingleBlasThread(load_scipy)

@@ -348,8 +348,8 @@ def _residuals(B: _Bodies, on: _OnSet, p, w, gap, active, history) -> dict:
 def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray, loads, *,
                           p_init: np.ndarray, rtol: float = 1e-10, accept: float | None = None,
                           max_outer: int = 200, max_krylov: int = 2000, grid: Grid | None = None,
-                          search_rtol: float | None = None, extrapolate: bool = False
-                          ) -> ContactSolution:
+                          search_rtol: float | None = None, extrapolate: bool = False,
+                          d_init=None) -> ContactSolution:
     """Contact of rigid bodies of heights ``f`` (one field on the grid: each node's height above
     the apex of the body that ``owner`` says it belongs to) pressed with ``loads`` (one per body,
     dimensionless; a body with load 0 is lifted off) on the surface of compliance ``op``.
@@ -366,12 +366,16 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
     extrapolate : 1D, one body: while the set only sheds tensile end nodes, put its next ends
              where the edges extrapolate to (``_shrunk_ends``) instead of at the pressure's zero
              crossings, which halve the excess per step.  Only the path changes.
+    d_init : optional first indentations (one per body; default 0).  For a start that is
+             already the solution up to a small change (the same nodes on a longer period:
+             the line solver's images measured), GMRES then starts from a residual of that
+             change's size instead of the whole gap's.  Only the path changes.
     """
     B = _Bodies(op, f, owner, loads)
     nfft = [0]  # FFT pairs
     active = B.first_set(p_init)
     p = np.where(active, np.asarray(p_init).ravel(), 0.0)
-    d = np.zeros(B.M)
+    d = np.zeros(B.M) if d_init is None else np.array(d_init, dtype=float).reshape(B.M)
     history = []
     krylov_total = 0
     s = _Search(B, rtol, search_rtol, extrapolate)
@@ -446,7 +450,7 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
 def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None, p_init=None,
                   rtol: float = 1e-10, accept: float | None = None, max_outer: int = 200,
                   max_krylov: int = 2000, search_rtol: float | None = None,
-                  extrapolate: bool | None = None) -> ContactSolution:
+                  extrapolate: bool | None = None, d_init=None) -> ContactSolution:
     """Solve the contact on ``grid`` for friction ``mu`` (sliding toward +x) and the given
     indenters (``physics.indenters``: each gives its height, a first pressure guess and its
     load), on ``film`` (default: the incompressible film of thickness 1, the core's unit).
@@ -456,6 +460,7 @@ def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None,
              large grids the nested start (``_nested_start``).
     extrapolate : as ``solve_complementarity``'s; default: for the cold start (no p_init; on
              a nested grid, its coarsest level's).
+    d_init : first indentations, as ``solve_complementarity``'s (with ``p_init`` only).
     Other options as ``solve_complementarity``.
     """
     film = film or _FILM
@@ -477,7 +482,7 @@ def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None,
                                      [ind.load], p_init=guess if p_init is None else p_init,
                                      rtol=rtol, accept=accept, max_outer=max_outer,
                                      max_krylov=max_krylov, grid=grid, search_rtol=search_rtol,
-                                     extrapolate=extrapolate)
+                                     extrapolate=extrapolate, d_init=d_init)
     dist = np.stack([np.broadcast_to(ind.distance(grid), grid.shape) for ind in indenters])
     owner = np.argmin(dist, axis=0)  # nearest apex (periodically); ties to the first
     f = np.zeros(grid.shape)
@@ -490,7 +495,7 @@ def solve_contact(grid: Grid, mu: float, indenters, *, film: Film | None = None,
     return solve_complementarity(op, f, owner, [ind.load for ind in indenters],
                                  p_init=guess if p_init is None else p_init, rtol=rtol,
                                  accept=accept, max_outer=max_outer, max_krylov=max_krylov,
-                                 grid=grid, search_rtol=search_rtol)
+                                 grid=grid, search_rtol=search_rtol, d_init=d_init)
 
 
 def _nested_start(grid: Grid, mu: float, indenters, film: Film, floor: int, options: dict

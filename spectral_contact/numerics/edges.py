@@ -129,7 +129,20 @@ def viscous_gap(s, terms):
     return out
 
 
-_NODES = np.arange(2.0, 6.0)  # the 2nd..5th nodes outside, as the elastic fit
+def _departure(t, dx, terms):
+    """rho(s) = viscous_gap(s) / ((2/3) s^{3/2}) at the 2nd..5th nodes' distances s = (k - t)
+    dx from a root t cells out (``_trailing_root``): ``viscous_gap``'s operations on Python
+    floats (the same values; 2 us against 12 us for numpy's on four-element arrays, 4
+    times per trailing edge fit, at every measure of a viscoelastic level)."""
+    out = []
+    for k in (2.0, 3.0, 4.0, 5.0):
+        s = max((k - t) * dx, 0.0)
+        g = (2.0 / 3.0) * s * math.sqrt(s)
+        for c, length in terms:
+            X = math.sqrt(s / length)
+            g = g - c * length * math.sqrt(length) * (X - float(dawsn(X)))
+        out.append(g / ((2.0 / 3.0) * s * math.sqrt(s)))
+    return out
 
 
 def _trailing_root(gap_out, dx, terms):
@@ -145,8 +158,7 @@ def _trailing_root(gap_out, dx, terms):
     for _ in range(4):
         if t is None:
             return None
-        s = (_NODES - t) * dx
-        rho = viscous_gap(s, terms) / ((2.0 / 3.0) * s * np.sqrt(s))
+        rho = _departure(t, dx, terms)
         t_new = _quadratic_fit_root(*((v / r) ** (2.0 / 3.0) for v, r in zip(g, rho)))
         if t_new is not None and abs(t_new - t) < 1e-6:
             return t_new

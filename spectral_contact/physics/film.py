@@ -151,6 +151,13 @@ class Film:
         ~tol/100 (times an amplitude of order 1): the guard a periodic grid needs."""
         return math.log(100.0 / tol) / self.decay_rate
 
+    def line_margin(self, tol: float, mu: float = 0.0, size: float | None = None) -> float:
+        """The margin of a line's period (Amontons ``mu`` in the contact, a contact of
+        half-width ``size``): ``domain_margin`` for a film whose kernels decay at
+        ``decay_rate`` (a viscoelastic film: its far field against the contact's stiffness,
+        ``ViscoelasticFilm.line_margin``)."""
+        return self.domain_margin(tol)
+
     # --- what the solvers' resolution control asks of a film kind: an elastic film's answers.
     # A kind whose symbols depend on the sliding (k_x V: ``physics.viscoelastic``) overrides
     # them; the solvers name no film kind (issue 20: a new kind touches its module, the options

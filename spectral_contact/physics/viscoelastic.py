@@ -50,6 +50,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -64,6 +65,34 @@ __all__ = ["ViscoelasticFilm", "film_of", "parse_prony", "check_prony"]
 def parse_prony(text: str, option: str = "--prony") -> tuple:
     """'E1,tau1[,E2,tau2,...]' -> ((E1, tau1), ...); InputError naming ``option`` otherwise."""
     return check_prony(str(text), option)
+
+
+@lru_cache(maxsize=64)
+def _retardation_times(relaxed_young: float, prony: tuple) -> tuple:
+    """``ViscoelasticFilm.retardation_times`` of E_inf ``relaxed_young`` and ``prony`` (bisection
+    between the poles, sorted)."""
+    taus = sorted({t for _, t in prony})
+    poles = [-1.0 / t for t in taus]  # increasing: most negative first
+
+    def f(s):
+        return relaxed_young + sum(e * s * t / (1.0 + s * t) for e, t in prony)
+
+    out = []
+    bounds = list(zip(poles[:-1], poles[1:])) + [(poles[-1], 0.0)] if poles else []
+    for lo, hi in bounds:
+        a, b = lo + 1e-15 * abs(lo), hi - (1e-15 * abs(hi) if hi else 0.0)
+        if hi == 0.0:
+            b = 0.0
+        for _ in range(200):  # f -> -inf at a pole's right, f(0) > 0; increasing between
+            m = 0.5 * (a + b)
+            if f(m) > 0.0:
+                b = m
+            else:
+                a = m
+            if b - a <= 1e-15 * abs(b):
+                break
+        out.append(-1.0 / (0.5 * (a + b)))
+    return tuple(sorted(out))
 
 
 @dataclass(frozen=True)
@@ -149,29 +178,10 @@ class ViscoelasticFilm(Film):
         """The retardation times: -1/s at the zeros s < 0 of G*(s/i) = G_inf + sum G_i s tau_i /
         (1 + s tau_i), one between each pair of consecutive poles -1/tau_i and one in
         (-1/tau_max, 0): the decay lengths of the film's memory are V times them.  The largest
-        is at most tau_max E_0/E_inf (equal for one term)."""
-        taus = sorted({t for _, t in self.prony})
-        poles = [-1.0 / t for t in taus]  # increasing: most negative first
-
-        def f(s):
-            return self.relaxed_young + sum(e * s * t / (1.0 + s * t) for e, t in self.prony)
-
-        out = []
-        bounds = list(zip(poles[:-1], poles[1:])) + [(poles[-1], 0.0)] if poles else []
-        for lo, hi in bounds:
-            a, b = lo + 1e-15 * abs(lo), hi - (1e-15 * abs(hi) if hi else 0.0)
-            if hi == 0.0:
-                b = 0.0
-            for _ in range(200):  # f -> -inf at a pole's right, f(0) > 0; increasing between
-                m = 0.5 * (a + b)
-                if f(m) > 0.0:
-                    b = m
-                else:
-                    a = m
-                if b - a <= 1e-15 * abs(b):
-                    break
-            out.append(-1.0 / (0.5 * (a + b)))
-        return sorted(out)
+        is at most tau_max E_0/E_inf (equal for one term).  (Cached per Prony series: a line
+        solve asked for them 7 times, 40 us each, ~4 % of a viscoelastic solve's CPU.)"""
+        return list(_retardation_times(float(self.relaxed_young),
+                                       tuple((float(e), float(t)) for e, t in self.prony)))
 
     # --- the symbols --------------------------------------------------------------------------
     @property
@@ -347,7 +357,8 @@ class ViscoelasticFilm(Film):
         return c * min(1.0, (2.0 * self.thickness / (length or self.tail_length)) ** 2)
 
     def domain_margin(self, tol: float, tails_corrected: bool = False) -> float:
-        """The elastic margin plus the tail's: l ln(100 A/tol), A = ``tail_amplitude(l)`` (the
+        """Surfaces' margin (lines: ``line_margin``, from the far field, where the decays do not
+        add): the elastic margin plus the tail's: l ln(100 A/tol), A = ``tail_amplitude(l)`` (the
         two decays add, the tail being the elastic sinking smeared behind the load over l),
         l = ``tail_length``; ``tails_corrected`` (lines: the tails of ``tail_poles`` have their
         images summed exactly by the solver): l the longest retardation length left, < 2.7 h,
@@ -369,6 +380,141 @@ class ViscoelasticFilm(Film):
             if tail == 0.0:
                 return m
         return m + tail * max(math.log(100.0 * self.tail_amplitude(tail) / tol), 0.0)
+
+    def line_far_field(self, d, mu: float = 0.0):
+        """The line kernel's far field at distances ``d`` (array, >= 0, lengths of
+        ``thickness``) from the load, behind it and ahead of it, without the summed tails'
+        own poles (their images are exact, ``tail_poles``), relative to the elastic film's
+        largest far-field amplitude (max(|A_b|, |A_a|) below): (behind, ahead), signed.
+
+        The kernel of H(k) R(k) (Amontons ``mu`` in the contact, signed as the scene's; R = r
+        + sum c_j / (1 - i k_x l_j), ``partial_fractions``) is, beyond a few thicknesses, the
+        sum of the residues at the poles nearest the real axis: the elastic film's k_x =
+        -+i kappa (kappa = ``decay_rate``, t0 = kappa h: cos t0 = t0), each times R there, and
+        behind the load the tails' k_x = -i/l_j (``tail_poles``: B_j exp(-d/l_j)/l_j).  In the
+        mirrored frame of V > 0 (V < 0: s -> -s, mu -> -mu; m = mu sign V), with y_j = h/l_j,
+
+            behind:  A_b [r + sum_summed c_j/(1 - kappa l_j)] exp(-kappa d)
+                     + sum_others c_j [A_b exp(-kappa d)/(1 - kappa l_j) + y_j phi(y_j) exp(-d/l_j)],
+            ahead:   A_a R(i kappa) exp(-kappa d),      R(i kappa) = r + sum c_j/(1 + kappa l_j),
+
+        A_b, A_a = (g0 +- m t0) / (2 S), g0 = (sin 2t0 - 2t0)/(2t0), S = sin 2t0 + 2t0 (the
+        residues of H = h [(sinh 2K - 2K)/(2K D) + i m K/D], K = k_x h, D = cosh 2K + 1 + 2K^2,
+        at K = -+i t0), phi(y) = [(sin 2y - 2y)/(2y) + m y] / (cos 2y + 1 - 2y^2) (= B_j/(c_j h),
+        ``tail_poles``).  Checked against the kernel of a 2^20-point line (period 4000 h) at
+        kappa l = 0, 0.074, 0.74, 1.48, mu 0 and +-2, V +-: to the reference's noise (1e-8).
+        At kappa l_j = 1 the two poles meet (a double pole): the term is evaluated as
+        c_j A_b (exp(-kappa d) - exp(-d/l_j))/(1 - kappa l_j) (-> c_j A_b (d/l_j) exp(-kappa d))
+        plus c_j beta_j exp(-d/l_j), beta_j = y_j phi(y_j) + A_b/(1 - kappa l_j) regular (within
+        1e-3 of the double pole: the mean of beta at y = t0 (1 +- 2e-3))."""
+        return self._far_field(np.asarray(d, dtype=float), self._far_parts(mu))
+
+    def _far_parts(self, mu: float):
+        """(A_b, A_a, norm, r_b, r_a, [(c_j, l_j, beta_j)]) of ``line_far_field`` (computed
+        once per margin: the retardation times are a bisection)."""
+        h, kappa = self.thickness, self.decay_rate
+        t0 = kappa * h
+        S = math.sin(2.0 * t0) + 2.0 * t0
+        g0 = (math.sin(2.0 * t0) - 2.0 * t0) / (2.0 * t0)
+        m = mu * (1.0 if self.speed >= 0.0 else -1.0)
+        Ab, Aa = (g0 + m * t0) / (2.0 * S), (g0 - m * t0) / (2.0 * S)
+        r, terms = self.partial_fractions() if self.moving else (1.0, [])
+        r_b = r_a = r
+        tails = []
+        for c, tr in terms:
+            length = abs(self.speed) * tr
+            kl = kappa * length
+            r_a += c / (1.0 + kl)
+            if kl >= TAIL_CORRECTED:  # its own pole's images are summed: only R(-i kappa)
+                r_b += c / (1.0 - kl)
+                continue
+            y = h / length
+            beta = (0.5 * sum(_tail_beta(t0 * (1.0 + e), t0, m, Ab) for e in (2e-3, -2e-3))
+                    if abs(y / t0 - 1.0) < 1e-3 else _tail_beta(y, t0, m, Ab))
+            tails.append((c, length, beta))
+        return Ab, Aa, max(abs(Ab), abs(Aa)), r_b, r_a, tails
+
+    def _far_field(self, d, parts):
+        """``line_far_field`` at the array ``d`` from ``_far_parts``."""
+        Ab, Aa, norm, r_b, r_a, tails = parts
+        kappa = self.decay_rate
+        el = np.exp(-kappa * d)
+        behind = r_b * Ab * el
+        for c, length, beta in tails:
+            x = (1.0 - kappa * length) * d / length  # (exp(-kappa d) - exp(-d/l))/(1 - kappa l)
+            xs = np.where(np.abs(x) > 1e-12, x, 1.0)
+            meet = el * (d / length) * np.where(np.abs(x) > 1e-12, -np.expm1(-xs) / xs, 1.0)
+            # (the exponent capped at 700: exp underflows slowly, to 0 beyond 745)
+            behind = behind + c * (Ab * meet + beta * np.exp(-np.minimum(d / length, 700.0)))
+        return behind / norm, r_a * Aa * el / norm
+
+    def line_margin(self, tol: float, mu: float = 0.0, size: float | None = None) -> float:
+        """The period's margin of a line (lengths of ``thickness``; Amontons ``mu`` in the
+        contact; the long tails' images summed, ``tail_poles``): the shortest free length d
+        beyond which the kernel's far field (``line_far_field``: both sides, relative to the
+        elastic film's largest amplitude) stays below tol/100 times |R(1/size)| (1 without a
+        ``size``), as the elastic film's exp(-kappa d) does beyond ``Film.domain_margin``.
+
+        The images displace the surface over the contact smoothly (the far field varies over
+        1/kappa = 1.35 h); a, x_c, d and p_max change by that over the contact's own
+        compliance, ~ H(k) R(k) at k ~ 1/a: the far field is taken relative to |R(1/a)| (r =
+        E_inf/E_0 <= |R| <= 1; a glassy contact, |R| -> r, is r times stiffer and its far field
+        r times smaller: the elastic margin; without the |R| such margins were ln(1/r)/kappa
+        shorter, and the paper's scene on a film 11 times stiffer when glassy (0.1 m/s)
+        failed the measured images' tol/4 and doubled its period).  The decays do not add:
+        for kappa l < 1 the tail's exp(-d/l) decays faster than the elastic exp(-kappa d) and
+        the margin is the elastic one plus ln(|R(-i kappa)|/|R(1/a)|)/kappa; for kappa l > 1
+        the tail's decay sets it (l ln(amplitude/tol)); near kappa l = 1 the double pole's
+        d exp(-kappa d).  (Was ``domain_margin``: the elastic margin plus l ln(100 A/tol),
+        the two decays added: periods 1.2-1.7 times the elastic one at kappa l 0.2-0.8;
+        studies/README, viscoelastic, images.)  The last crossing of the target on a grid of
+        h/20 (up to where a monotone bound of the far field, each term's modulus, the double
+        pole's bounded by d/l exp(-min(kappa, 1/l) d), is below it), then within that step
+        log-linearly (checked: the step's end where it falls short), so that the period moves
+        with the physics only (rounded to h/20, a slow film's period moved by up to 0.05 h
+        from the elastic one, and the final grids with it: studies/README).  The images are
+        then bounded (``image_factor``) or measured as before (``solvers.fft``)."""
+        if not self.moving:
+            return self.domain_margin(tol)
+        h = self.thickness
+        stiff = 1.0 if size is None else float(abs(
+            self.modulus_ratio((1.0, 0.0), np.array([1.0 / max(size, 1e-12)]))[0]))
+        target = 1e-2 * tol * stiff
+        step = h / 20.0
+        # the monotone bound's end: double the trial length until it is below the target
+        parts = self._far_parts(mu)
+        d_hi = max(math.log(100.0 / tol) / self.decay_rate, 2.0 * h)  # the elastic margin
+        for _ in range(60):
+            if self._far_bound(d_hi, parts) <= target:
+                break
+            d_hi *= 2.0
+        d = np.arange(0.0, d_hi + step, step)
+        behind, ahead = self._far_field(d, parts)
+        far = np.maximum(np.abs(behind), np.abs(ahead))
+        above = np.nonzero(far > target)[0]
+        if not above.size:
+            return 0.0
+        # the last crossing within its step, log-linear (the far field is exponential there):
+        # no h/20 rounding; the grid's point beyond it should the interpolation fall short
+        k = above[-1]
+        f0, f1 = math.log(far[k]), math.log(max(far[k + 1], 1e-300))
+        m = float(d[k] + step * (f0 - math.log(target)) / (f0 - f1))
+        b, a = self._far_field(np.array([m]), parts)
+        return m if max(abs(b[0]), abs(a[0])) <= target * (1.0 + 1e-9) else float(d[k + 1])
+
+    def _far_bound(self, d: float, parts) -> float:
+        """An upper bound of |``line_far_field``| at every distance >= d >= the longest
+        unsummed tail and 1/kappa (each term's modulus, decreasing there; ``_far_parts``)."""
+        Ab, Aa, norm, r_b, r_a, tails = parts
+        kappa = self.decay_rate
+        el = math.exp(-kappa * d)
+        rest = 0.0
+        for c, length, beta in tails:
+            if d < length or d < 1.0 / kappa:
+                return math.inf
+            rest += abs(c) * (abs(Ab) * (d / length) * math.exp(-min(kappa, 1.0 / length) * d)
+                              + abs(beta) * math.exp(-d / length))
+        return max(abs(r_b * Ab) * el + rest, abs(r_a * Aa) * el) / norm
 
     def trailing_edge_layer(self):
         """(side, [(c_j, |V| tau_r,j)]): behind the trailing edge (the left one for V > 0,
@@ -479,6 +625,14 @@ def _tail_symbol(c: float, h: float, y: float, mu: float):
                     + mu * y * np.where(K > 1e-4, F1 / (2.0 * Ks * Ks), 0.5))
         return c * h * out
     return coefficient
+
+
+def _tail_beta(y: float, t0: float, m: float, Ab: float) -> float:
+    """y phi(y) + A_b y/(y - t0) (``ViscoelasticFilm.line_far_field``): the tail's residue
+    (B/(c l)) less the part that cancels the elastic pole's c A_b/(1 - kappa l) at y = t0."""
+    D = math.cos(2.0 * y) + 1.0 - 2.0 * y * y
+    phi = ((math.sin(2.0 * y) - 2.0 * y) / (2.0 * y) + m * y) / D
+    return y * phi + Ab * y / (y - t0)
 
 
 def _even_parts(K2):

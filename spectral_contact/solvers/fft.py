@@ -4,8 +4,10 @@
 2. The period is set to L = 2a + ln(100/tol)/kappa (+ a small guard), with kappa = 0.739/h the
    slowest decay rate of the film's kernels, so periodic images perturb the solution by
    ~tol/100 (times an amplitude of order 1: measured up to ~1.3 at mu = 10).  A viscoelastic
-   film adds its relaxation tails shorter than 2.7 h (V tau_r ln(100 A/tol)); the longer
-   ones' images are summed exactly by the operator (numerics.operators.tail_terms).
+   film: the free length beyond which its kernel's far field (the elastic poles times R there,
+   the relaxation tails shorter than 2.7 h), over the located contact's stiffness |R(1/a)|,
+   stays below the elastic film's at its margin (``ViscoelasticFilm.line_margin``); the
+   longer tails' images are summed exactly by the operator (numerics.operators.tail_terms).
 3. The grid is doubled (N = 2^m, same period, nested nodes, each level started from the previous
    solution) until the estimate from the levels' differences (_discretisation_error) is below
    ``tol``, from the third level on.
@@ -41,6 +43,7 @@ import warnings
 import numpy as np
 
 from ..errors import ConvergenceError, InputError, named
+from ..numerics.blas_threads import single_blas_thread
 from ..numerics.contact import refine_nested
 from ..numerics.edges import fit_edges, peak
 from ..numerics.fft import get_rfft
@@ -295,6 +298,9 @@ def _check_fixed(grid_points, domain_length):
     return grid_points, domain_length
 
 
+# (the GMRES bases' products, the centroid's dot: numerics.blas_threads; numpy's build, no
+# import of scipy.linalg for its own: the line solve uses none of it)
+@single_blas_thread(load_scipy=False)
 def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points: int | None = None,
               domain_length: float | None = None, progress=None) -> ContactResult:
     """Solve ``scene`` with the spectral method.
@@ -367,14 +373,23 @@ class _LineSolve:
         # mu 2: d = 0.11 against 1.67; 0.1 m/s: d < 0), where the images' offset of d was 5.6
         # exp(-kappa free) of d against the elastic film's 1.0: 1.6 times the bound
         # (studies/README, viscoelastic, images); frictionless, d stays within the 1/r.
+        self._set_margin(None)
+
+    def _set_margin(self, size) -> None:
+        """The period's margin and the images' factors (a viscoelastic film: its margin from
+        its far field against the stiffness of a contact of half-width ``size``, None: the
+        relaxed film's, for the locator; ``ViscoelasticFilm.line_margin``)."""
+        prob = self.prob
         self.image_factor = prob.film.image_factor() if prob.mu_contact == 0.0 or \
             not prob.visco else None
         # with friction: the same factor, times max(1, d_el/d) once the solve's d is known
         # (``_friction_images``); else measured
         self.friction_factor = prob.film.image_factor() if prob.visco and \
             prob.mu_contact != 0.0 else None
-        if prob.visco:  # the long relaxation tails' images are summed exactly (tail_terms)
-            prob.margin = prob.film.domain_margin(prob.tol, tails_corrected=True)
+        if prob.visco:  # the long relaxation tails' images are summed exactly (tail_terms);
+            # the far field of the rest relative to the contact's stiffness as small as the
+            # elastic film's at its margin
+            prob.margin = prob.film.line_margin(prob.tol, prob.mu_contact, size)
             decay = math.exp(-prob.film.decay_rate * prob.margin)
             if self.image_factor is not None and self.image_amplitude * self.image_factor * \
                     decay > 0.25 * prob.tol:
@@ -403,7 +418,7 @@ class _LineSolve:
         self.check_period(located[1])
         return located
 
-    def contact(self, grid, p_init=None, locator=False):
+    def contact(self, grid, p_init=None, locator=False, d_init=None):
         prob, scene = self.prob, self.scene
         if self.exponential:
             s_ = solve_exponential_contact(grid, prob.mu_contact, self.indenter[0],
@@ -411,7 +426,7 @@ class _LineSolve:
                                            film=prob.film, p_init=p_init, rtol=prob.accept)
             s_.soft = True
             return s_
-        return prob.solve_contact(grid, self.indenter, prob.film, p_init, locator)
+        return prob.solve_contact(grid, self.indenter, prob.film, p_init, locator, d_init)
 
     def _a_bound(self) -> float:
         """An upper bound of the frictionless half-width.  Both the Hertz half-space width
@@ -481,6 +496,8 @@ class _LineSolve:
         sol, q = located
         prob, tol = self.prob, self.prob.tol
         guard = 4 * sol.grid.dx
+        if prob.visco and self.domain_length is None:  # the margin for this contact's size
+            self._set_margin(q["a"])
         L = self.domain_length or (2 * q["a"] + prob.margin + guard)
         center = q["c"] if self.domain_length is None else 0.0
         # (a viscoelastic film: its images are measured too unless its far field is bounded
@@ -497,9 +514,11 @@ class _LineSolve:
             # 4. the images' effect, measured: the final level's nodes on the period 2L
             fine = lv.cur
             g2 = Grid.centered(2 * fine.grid.n, 2 * L, center)
+            # (from the final level's pressure and indentation: GMRES starts from the
+            # images' change, not from the whole gap: 18 -> 8 FFT pairs on 2N points)
             far = prob.count(self.contact(
                 g2, p_init=np.interp(g2.x, fine.grid.x, fine.sol.pressure, period=L)
-                * (np.abs(g2.x - center) < 0.5 * L)))
+                * (np.abs(g2.x - center) < 0.5 * L), d_init=fine.sol.indentations))
             domain_diff = _difference(_measure(far, prob.visco, prob.trailing), fine.q0)
             lv.image_error = max(lv.image_error, domain_diff)
             lv.est = lv.disc + lv.image_error
@@ -536,9 +555,12 @@ class _LineSolve:
         g = Grid.centered(max(fine.n // 8, MIN_POINTS), L, self._center)
         relaxed = dataclasses.replace(self.scene, speed=0.0, prony=()).core_film()
         try:
+            # (from the solve's pressure, narrower than the relaxed film's: a band is added at
+            # once, then end nodes shed, extrapolated: 2048 -> 1558 FFT pairs over 32 solves
+            # of four friction scenes at 1e-3 - 10 m/s, d_el the same to 8 digits)
             el = prob.count(prob.solve_contact(
                 g, self.indenter, relaxed,
-                np.interp(g.x, fine.x, lv.cur.sol.pressure, period=L), False))
+                np.interp(g.x, fine.x, lv.cur.sol.pressure, period=L), False, extrapolate=True))
         except ConvergenceError:
             return False  # (measured instead)
         ratio = max(1.0, float(el.indentations[0]) * (1.0 + _D_EL_MARGIN) / d)

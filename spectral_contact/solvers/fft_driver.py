@@ -50,17 +50,15 @@ LOCATOR_RTOL = 1e-6
 LOCATOR_ACCEPT = 1e-3
 LOCATOR_SEARCH_RTOL = 1e-2  # and while its active set is searched (measured: fewer GMRES
 # iterations for the same located contact)
-VISCO_EDGE_CELLS = 2  # viscoelastic film: cells across the edge structure |V| tau_i
+VISCO_EDGE_CELLS = 2  # viscoelastic film on surfaces: cells across the edge structure |V| tau_i
 VISCO_EDGE_SHARE = 0.25  # an unresolved term moves x_c and a by up to ~0.6 E_i/E_inf |V| tau_i
 # (measured, SLS E_1 = E_inf, paper's scene, V tau/h = 1.5e-3: x_c moved by 6e-4 a from 1024
-# to 131072 points); terms above this share of tol are resolved from the first level on (the
-# levels' sizes), the others' weight x width / size is added to the error estimate
-# (``unresolved_edges``).  Cells: 4 before; a_H/h 1 at V tau/h = 0.016 against 4 times the
-# points: relative error 1.6e-3, 4.2e-4, 1.4e-4, 2.5e-5 at 0.9, 1.8, 3.7, 7.3 cells across
-# V tau (second order from ~1 cell on), so the third level (the first that may stop) spans
-# >= 2 cells, the first >= 0.5; the level differences see the edge converge (true error
-# against 4 times finer cells on twice the period 4e-5 - 1e-4 below estimates 2e-4 - 8e-4 at
-# six edge-resolving points: studies/README, viscoelastic, cost; it was >= 4 cells on the third)
+# to 131072 points, with the elastic edge fit); terms above this share of tol are resolved
+# from the first level on (the levels' sizes), the others' weight x width / size is added to
+# the error estimate (``unresolved_edges``).  Lines no longer do either: they fit the trailing
+# edges with their inner layer (``numerics.edges.viscous_gap``; ``EDGE_LAYER_FITTED``), which
+# leaves a, x_c within ~5e-5 of a resolved solve with one cell across V tau (a_H/h 1, V tau/h
+# 5e-3; 4.5e-4 with the elastic fit) and lets the levels' differences see the rest.
 STAGNATION_DOUBLINGS = 3
 
 
@@ -123,13 +121,17 @@ class Problem:
                     LOCATOR_SEARCH_RTOL)
         return self.rtol, self.accept, None
 
-    def solve_contact(self, grid, indenters, film, p_init=None, locator=False):
+    def solve_contact(self, grid, indenters, film, p_init=None, locator=False, d_init=None,
+                      extrapolate=None):
         """One contact solve on ``grid`` (Amontons, or the law / interface's fixed point; a
-        proportional law stays Amontons bit for bit)."""
+        proportional law stays Amontons bit for bit).  ``d_init``: the first indentations,
+        ``extrapolate``: the shrinking sets' ends extrapolated (Amontons; both only change the
+        path: ``numerics.contact.solve_complementarity``)."""
         rt, acc, search = self.tolerances(locator)
         if not self.with_law and self.c == 0.0:
             return solve_contact(grid, self.mu_contact, indenters, film=film, p_init=p_init,
-                                 rtol=rt, accept=acc, search_rtol=search)
+                                 rtol=rt, accept=acc, search_rtol=search, d_init=d_init,
+                                 extrapolate=extrapolate)
         law = self.law if self.with_law else ShearLaw("amontons", mu=self.mu_contact)
         s_, _, li = solve_contact_law(grid, law, indenters, film=film, interface=self.c,
                                       p_init=p_init, accept=acc, rtol=rt, law_tol=self.accept,
