@@ -19,7 +19,7 @@ sphere_cost  the sphere's cost (F = 1 N, mu = 0) against the elastic sphere at t
 sphere_fitted  the sphere without the edge grid rule (``solvers.fft3d.edges_fitted``): the
            automatic solve against 4 times finer cells per axis on its own period, over the
            quantities the estimate covers, at 1e-4 ... 3e-2 m/s; SLS mu 0 and 0.5 (tol 1e-2,
-           5e-3, 1e-3), a two-term series of r = 1/2 (1e-2, 5e-3), and with the rule (r < 1/2)
+           5e-3, 1e-3), a two-term series of r = 1/2 (the same), and with the rule (r < 1/2)
            and without it, E_1 = 3 E_inf and 10 E_inf at tol 1e-2 (``rule`` column).
 estimate   the error estimate against the true error (a much finer, twice longer fixed grid:
            2^21 points over twice the period) over V, tol 1e-3 and 1e-4, mu 0 and 1.
@@ -230,7 +230,7 @@ def part_sphere_fitted(quick: bool, out, t0) -> list[dict]:
     speeds = (1e-3, 1e-2) if quick else (1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2)
     two = ((0.5 * E_INF, 1e-3), (0.5 * E_INF, 0.1))
     cases = [("SLS", SLS, 0.0, (1e-2, 5e-3, 1e-3)), ("SLS", SLS, 0.5, (1e-2, 5e-3, 1e-3)),
-             ("two-term", two, 0.0, (1e-2, 5e-3)), ("E1=3Einf", ((3 * E_INF, TAU),), 0.0, (1e-2,)),
+             ("two-term", two, 0.0, (1e-2, 5e-3, 1e-3)), ("E1=3Einf", ((3 * E_INF, TAU),), 0.0, (1e-2,)),
              ("E1=10Einf", ((10 * E_INF, TAU),), 0.0, (1e-2,))]
     if quick:
         cases = cases[:1]
@@ -254,7 +254,15 @@ def part_sphere_fitted(quick: bool, out, t0) -> list[dict]:
                             continue
                         (nx, ny), (Lx, Ly) = r.grid_points, r.domain_length
                         n = (min(8192, 4 * nx), min(8192, 4 * ny))
-                        ref = solve(**kw, grid_points=n, domain_length=(Lx * L, Ly * L)).summary()
+                        try:
+                            ref = solve(**kw, grid_points=n,
+                                        domain_length=(Lx * L, Ly * L)).summary()
+                        except InputError as exc:  # too large for the machine
+                            row |= {"grid_x": nx, "grid_y": ny,
+                                    "error_estimate": r.error_estimate,
+                                    "status": "reference refused: " + str(exc)[:60]}
+                            rows.append(row)
+                            continue
                         err = _sphere_change(r.summary(), ref, _SPHERE_COVERED)
                         row |= {"grid_x": nx, "grid_y": ny, "error_estimate": r.error_estimate,
                                 "true_error": err, "bounded": bool(err <= r.error_estimate),
