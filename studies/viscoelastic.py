@@ -273,6 +273,8 @@ def part_sphere_fitted(quick: bool, out, t0) -> list[dict]:
                         progress(len(rows), total, f"sphere fitted {name} tol {tol:g} V={V:g}", t0)
     finally:
         f3._FITTED_MIN_RATIO = keep
+    keys = dict.fromkeys(k for row in rows for k in row)  # refused rows: the columns as nan
+    rows = [dict.fromkeys(keys, math.nan) | row for row in rows]
     table(rows, out / "viscoelastic_sphere_fitted.csv",
           "Viscoelastic sphere (F = 1 N) without the edge grid rule where edges_fitted: automatic "
           "solve against 4x the cells per axis on its period (radius, centroid, d, p_max)")
