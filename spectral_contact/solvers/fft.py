@@ -343,9 +343,10 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
             f"0.6 times at tol 1e-2); use tol <= {_INTERFACE_TOL:g}", UserWarning, stacklevel=3)
     try:
         return run(_LineSolve(prob, grid_points, domain_length))
-    except ConvergenceError:
+    except ConvergenceError as exc:
         if not (prob.visco and prob.adaptive):
             raise
+        first = exc
     # a viscoelastic line whose levels stagnate with the edge structure |V| tau unresolved
     # (a film much stiffer when glassy, E_0/E_inf >= 4, at V tau/h ~ 1e-4 - 2e-3 and tol
     # 1e-4: the leading edge's glassy layer, unresolved in the pressure, carries a load the
@@ -358,7 +359,10 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     retry = Problem(scene, model, tol, adaptive=True, progress=prob.progress)
     retry.rtol = prob.rtol
     retry.counters = dict(prob.counters)
-    return run(_LineSolve(retry, grid_points, domain_length, resolve_edges=True))
+    try:
+        return run(_LineSolve(retry, grid_points, domain_length, resolve_edges=True))
+    except ConvergenceError:
+        raise first from None  # (its message names the stagnation and what to change)
 
 
 class _LineSolve:
