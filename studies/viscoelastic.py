@@ -307,7 +307,10 @@ def part_edge_range(quick: bool, out, t0) -> list[dict]:
             for name, load, mu in scenes:
                 for V in speeds:
                     kw = dict(load=load, mu=mu, speed=V, prony=prony, tol=tol, **FILM)
-                    row = {"tol": tol, "film": fname, "scene": name, "speed_m_per_s": V}
+                    row = {"tol": tol, "film": fname, "scene": name, "speed_m_per_s": V,
+                           "path": "", "edge_structure_resolved": False, "grid_points": 0,
+                           "error_estimate": math.nan, "true_error": math.nan, "bounded": False,
+                           "failed": ""}
                     try:
                         r = solve(**kw)
                         ref = solve(**kw, grid_points=2**18 if quick else 2**20,
@@ -322,7 +325,7 @@ def part_edge_range(quick: bool, out, t0) -> list[dict]:
                         "path": "slow" if "slow_sliding" in r.info else "full",
                         "edge_structure_resolved": bool(r.info.get("edge_structure_resolved")),
                         "grid_points": r.grid_points, "error_estimate": r.error_estimate,
-                        "true_error": err, "bounded": bool(err <= r.error_estimate), "failed": ""})
+                        "true_error": err, "bounded": bool(err <= r.error_estimate)})
                     rows.append(row)
                     progress(len(rows), n, f"tol {tol:g} {fname} {name} V={V:.1e}: est "
                              f"{r.error_estimate:.1e} true {err:.1e}", t0)
