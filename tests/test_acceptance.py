@@ -33,17 +33,20 @@ def test_surface_fixed_grid_flags_tolerance(capsys):
 
 def test_stagnation_hint_names_a_method_that_takes_the_scene(capsys):
     """No convergence (exit 3) on a viscoelastic line: the one line must not send the user to
-    --method abel, which refuses --prony (exit 2).  Before: "(try --method abel)".  (The scene
-    was a thick film, --load 4.43 --thickness 0.05 --speed 0.01 --prony 3e6,0.02; since its
-    trailing edge is fitted with its inner layer it converges, 2^20 points, within 2.6e-5 of a
-    solve on 2^20 points over twice the period; now a film 101 times stiffer when glassy, whose
-    active set fragments behind the trailing edge: studies/README, viscoelastic, reliability.)"""
+    --method abel, which refuses --prony (exit 2).  Before: "(try --method abel)".  (The scene:
+    a film 101 times stiffer when glassy, whose active set fragments behind the trailing edge:
+    studies/README, viscoelastic, reliability; since the sixth session its term, heavier than
+    the layer fit's range, is resolved from the start and a contact solve ends unconverged,
+    where a stagnation was reported on the code between; both are exit 3 in one line.  The
+    scenes used before converge now: a thick film, --load 4.43 --thickness 0.05 --speed 0.01
+    --prony 3e6,0.02, and a film 31 times stiffer, --load 70.9 --speed 0.02 --prony
+    6.6e7,1e-4 --tol 1e-3.)"""
     args = ["solve", "--load", "200", "--mu", "2", "--speed", "0.01", "--prony", "2.2e8,1e-4",
             "--tol", "1e-4"]
     assert main(args) == 3
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "stagnates" in err[0]
-    assert "abel" not in err[0] and "tol" in err[0]
+    assert len(err) == 1 and "not converged" in err[0]
+    assert "abel" not in err[0]
     assert main(args + ["--method", "abel"]) == 2  # why the hint must not name it
 
 

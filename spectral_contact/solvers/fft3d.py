@@ -214,7 +214,8 @@ class _SurfaceSolve:
         self.fixed_box = bool(grid_points) and domain_length is not None
         if prob.visco:  # the long relaxation tails' images are summed exactly (tail_terms)
             prob.margin = prob.film.domain_margin(prob.tol, tails_corrected=True)
-        # read by ``fft_driver.estimate``: no unresolved-edge bound when the fits carry them
+        # no unresolved-edge bound (``unfitted_edge_scales``) nor grid rule when the fits
+        # carry the edge structure
         self.EDGE_LAYER_FITTED = prob.visco and edges_fitted(prob.film, prob.tol)
 
     def unloaded(self) -> ContactResult3D:
@@ -368,6 +369,11 @@ class _SurfaceSolve:
         own is recorded (``extent_error_estimate``)."""
         lv.extent_est = _extent_difference(cur.q, prev.q)
         return _difference(cur.q, prev.q, self.ind.singular_peak)
+
+    def unfitted_edge_scales(self) -> list:
+        """The edge scales ``fft_driver.estimate`` bounds as unresolved: none where the fits
+        carry them (``edges_fitted``), else every term's."""
+        return [] if self.EDGE_LAYER_FITTED else self.prob.film.edge_scales()
 
     def size(self, q) -> float:
         """The contact radius sqrt(A/pi) (the unresolved viscoelastic edges are relative to it)."""

@@ -55,8 +55,9 @@ VISCO_EDGE_SHARE = 0.25  # an unresolved term moves x_c and a by up to ~0.6 E_i/
 # (measured, SLS E_1 = E_inf, paper's scene, V tau/h = 1.5e-3: x_c moved by 6e-4 a from 1024
 # to 131072 points, with the elastic edge fit); terms above this share of tol are resolved
 # from the first level on (the levels' sizes), the others' weight x width / size is added to
-# the error estimate (``unresolved_edges``).  Lines no longer do either: they fit the trailing
-# edges with their inner layer (``numerics.edges.viscous_gap``; ``EDGE_LAYER_FITTED``), which
+# the error estimate (``unresolved_edges``).  Lines no longer do either for terms up to
+# E_i/E_inf = 1 (``_LineSolve.LAYER_FITTED_WEIGHT``): they fit the trailing
+# edges with their inner layer (``numerics.edges.viscous_gap``; ``unfitted_edge_scales``), which
 # leaves a, x_c within ~5e-5 of a resolved solve with one cell across V tau (a_H/h 1, V tau/h
 # 5e-3; 4.5e-4 with the elastic fit) and lets the levels' differences see the rest.
 # Surfaces likewise where ``fft3d.edges_fitted`` (r = E_inf/E_0 >= 1/2, tol >= 1e-3: verified).
@@ -220,14 +221,16 @@ class Levels:
 def estimate(steps, lv: Levels, cur: Level, prev: Level, lengths) -> float:
     """The error estimate of level ``cur`` (recorded in ``lv``): the dimension's
     discretisation error from the levels' difference, plus the viscoelastic film's unresolved
-    edges (relative to the contact's size; surfaces: lines fit the trailing edges' inner
-    layer, ``EDGE_LAYER_FITTED``), plus the periodic images' (0 where the period's
-    margin keeps them ~tol/100 and out of the estimate: surfaces)."""
+    edges (relative to the contact's size; lines fit the trailing edges' inner layer of
+    the lighter Prony terms: the steps' ``unfitted_edge_scales``), plus the periodic images'
+    (0 where the period's margin keeps them ~tol/100 and out of the estimate: surfaces)."""
     prob = steps.prob
     lv.image_error = steps.image_error(cur.q, lengths)
     disc = steps.difference(lv, cur, prev)
-    if prob.visco and not getattr(steps, "EDGE_LAYER_FITTED", False):
-        disc += unresolved_edges(prob.film.edge_scales(), steps.size(cur.q), cur.grid.spacing[0])
+    if prob.visco:  # (lines fit the trailing edges' layer of the lighter terms: theirs only)
+        scales = (steps.unfitted_edge_scales() if hasattr(steps, "unfitted_edge_scales")
+                  else prob.film.edge_scales())
+        disc += unresolved_edges(scales, steps.size(cur.q), cur.grid.spacing[0])
     lv.disc = disc
     lv.est = disc + lv.image_error
     lv.ests.append(lv.est)
