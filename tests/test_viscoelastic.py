@@ -811,7 +811,7 @@ def test_stagnating_levels_fall_back_to_the_resolved_edge_structure(monkeypatch)
     assert fallback.counters["transforms"] > r.counters["transforms"]
 
 
-# --- surfaces without the grid rule (issue 23's seventh session) ------------------------------
+# --- surfaces without the grid rule (issue 23's sixth session) ------------------------------
 def test_surface_peak_pressure_ignores_the_odd_even_mode():
     """A viscoelastic surface's p_max (numerics.measure2d._peak_odd_even): a smooth pressure
     1 - 2 r^2 (peak 1 at x = 0.013, between nodes) plus an odd-even mode of 1 % along x

@@ -72,7 +72,7 @@ _END_ASPECT = 2.0  # the finite cylinder's cells: dx = this x dy (issue 25).  Me
 # 1024: 3.9e-3 and 5.3e-3), the contact radius by 1.3e-3; levels (256, 512) -> (512, 1024)
 # differ as (512, 512) -> (1024, 1024) do (3.9e-3 vs 3.8e-3 on the indentation)
 _OPEN_MARGIN = 1.5  # the open solve's estimate: this times the last two levels' difference
-# A viscoelastic film's edge structure |V| tau_i without cells of its own (issue 23's seventh
+# A viscoelastic film's edge structure |V| tau_i without cells of its own (issue 23's sixth
 # session): the trailing edges fitted with their inner layer and p_max with the odd-even mode
 # (``measure_contact_2d``), no unresolved-edge bound, where that was verified (studies/README,
 # viscoelastic, **sphere**: the sphere's estimate bounded its error against 4 times finer
