@@ -483,7 +483,7 @@ class ViscoelasticFilm(Film):
         step = h / 20.0
         # the monotone bound's end: double the trial length until it is below the target
         parts = self._far_parts(mu)
-        d_hi = max(math.log(100.0 / tol) / self.decay_rate, 2.0 * h)  # the elastic margin
+        d_hi = max(Film.domain_margin(self, tol), 2.0 * h)  # the elastic margin
         for _ in range(60):
             if self._far_bound(d_hi, parts) <= target:
                 break

@@ -319,7 +319,7 @@ class _SurfaceSolve:
         of the contact's smaller width / _FIRST_ACROSS up to MAX_POINTS_3D."""
         if self.grid_points:
             return [tuple(n // 2 for n in self.grid_points), self.grid_points]
-        prob, tol = self.prob, self.prob.tol
+        tol = self.prob.tol
         width_x, width_y = widths
         d1 = min(width_x, width_y) / _FIRST_ACROSS
         # sharp ends (finite cylinder): cells _END_ASPECT times longer across the cylinder
@@ -327,8 +327,7 @@ class _SurfaceSolve:
         stretch = (_END_ASPECT, 1.0) if self.ind.singular_peak else (1.0, 1.0)
         dx1 = d1 * stretch[0]
         radius = 0.25 * (width_x + width_y)
-        rule = prob.visco and not self.EDGE_LAYER_FITTED
-        for width, weight in (prob.film.edge_scales() if rule else ()):
+        for width, weight in self.unfitted_edge_scales():
             # as in 2D (solvers.fft._level_sizes): resolve the edge structure |V| tau_i (along
             # x, the sliding direction) of a term that moves the contact by more than a share
             # of tol (issue 23)

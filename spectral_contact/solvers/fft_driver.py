@@ -16,7 +16,8 @@ small methods of ``steps`` (``_LineSolve``, ``_SurfaceSolve``, ``_OpenSolve``):
 - ``grid(shape, lengths, center)``, ``start(grid, located, prev)``, ``solve_level(grid,
   p_init, first)`` (a ``Level``), ``difference(levels, cur, prev)`` (the discretisation part
   of the estimate), ``size(q)`` (the contact's size the unresolved edges are relative to),
-  ``image_error(q, lengths)``;
+  ``unfitted_edge_scales()`` (a viscoelastic film's edge structures the edge fits do not
+  carry: resolved by the grid, bounded in the estimate), ``image_error(q, lengths)``;
 - ``fields(sol, p, shear)`` (the base stresses: counted), ``level_row(shape, q)``,
   ``result(levels, fields, info, wall, plan_time, law_shear)``;
 - the attributes ``grid_points`` (a user-fixed grid: stop after its two levels),
@@ -227,10 +228,9 @@ def estimate(steps, lv: Levels, cur: Level, prev: Level, lengths) -> float:
     prob = steps.prob
     lv.image_error = steps.image_error(cur.q, lengths)
     disc = steps.difference(lv, cur, prev)
-    if prob.visco:  # (lines fit the trailing edges' layer of the lighter terms: theirs only)
-        scales = (steps.unfitted_edge_scales() if hasattr(steps, "unfitted_edge_scales")
-                  else prob.film.edge_scales())
-        disc += unresolved_edges(scales, steps.size(cur.q), cur.grid.spacing[0])
+    if prob.visco:  # (the terms the edge fits do not carry)
+        disc += unresolved_edges(steps.unfitted_edge_scales(), steps.size(cur.q),
+                                 cur.grid.spacing[0])
     lv.disc = disc
     lv.est = disc + lv.image_error
     lv.ests.append(lv.est)
