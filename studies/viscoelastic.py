@@ -230,7 +230,7 @@ def part_sphere_cost(quick: bool, out, t0) -> list[dict]:
     return rows
 
 
-def part_sphere_fitted(quick: bool, out, t0) -> list[dict]:
+def part_sphere_fitted(quick: bool, out, t0, films=None) -> list[dict]:
     import spectral_contact.solvers.fft3d as f3
     from spectral_contact.api import make_scene
     speeds = (1e-3, 1e-2) if quick else (1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2)
@@ -246,6 +246,8 @@ def part_sphere_fitted(quick: bool, out, t0) -> list[dict]:
              ("E1=10Einf", ((10 * E_INF, TAU),), 0.5, (1e-2, 1e-3))]
     if quick:
         cases = cases[:1]
+    if films:  # --sphere-films: these films' cases only
+        cases = [c for c in cases if c[0] in films]
     rows, L = [], FILM["thickness"]
     total = sum(len(c[3]) for c in cases) * len(speeds)
     for name, prony, mu, tols_ in cases:
@@ -290,7 +292,8 @@ def part_sphere_fitted(quick: bool, out, t0) -> list[dict]:
                          f"{err:.1e} / {r.error_estimate:.1e}", t0)
     keys = dict.fromkeys(k for row in rows for k in row)  # refused rows: the columns as nan
     rows = [dict.fromkeys(keys, math.nan) | row for row in rows]
-    table(rows, out / "viscoelastic_sphere_fitted.csv",
+    table(rows, out / ("viscoelastic_sphere_fitted.csv" if not films else
+                       f"viscoelastic_sphere_fitted_{'_'.join(films)}.csv"),
           "Viscoelastic sphere (F = 1 N): automatic solve (edge structure fitted where "
           "edges_fitted) against 4x the cells per axis on its period (radius, centroid, d, p_max)")
     return rows
@@ -759,6 +762,9 @@ def main(argv=None) -> int:
         p.add_argument("--parts", default=",".join(PARTS),
                        help=f"comma list of {', '.join(PARTS)} (default all; figure needs the "
                             "speed and claim CSVs, made now or before)")
+        p.add_argument("--sphere-films", default="",
+                       help="sphere_fitted: a comma list of its films (SLS, two-term, E1=3Einf, "
+                            "E1=10Einf) to run alone (default all)")
 
     args, out = parse(argv, __doc__.splitlines()[0], "out/viscoelastic", extra=extra)
     parts = args.parts.split(",")
@@ -770,7 +776,8 @@ def main(argv=None) -> int:
     if "sphere_cost" in parts:
         part_sphere_cost(args.quick, out, t0)
     if "sphere_fitted" in parts:
-        part_sphere_fitted(args.quick, out, t0)
+        part_sphere_fitted(args.quick, out, t0,
+                           [f for f in args.sphere_films.split(",") if f] or None)
     if "sphere_beyond_cost" in parts:
         part_sphere_beyond_cost(args.quick, out, t0)
     if "reference" in parts:
