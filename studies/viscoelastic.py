@@ -16,11 +16,16 @@ sphere_cost  the sphere's cost (F = 1 N, mu = 0) against the elastic sphere at t
            (1e-2, 5e-3) at 1e-4, 1e-3, 3e-3, 1e-2 m/s (V tau/h 5e-4 ... 5e-2, where the edge
            rule refines the grid along x): CPU times, fastest of warm interleaved runs
            (``viscoelastic_cost._timed_pair``), grids, estimates; a refused solve is a row.
-sphere_fitted  the sphere without the edge grid rule (``solvers.fft3d.edges_fitted``): the
-           automatic solve against 4 times finer cells per axis on its own period, over the
-           quantities the estimate covers, at 1e-4 ... 3e-2 m/s; SLS mu 0 and 0.5 (tol 1e-2,
-           5e-3, 1e-3), a two-term series of r = 1/2 (the same), and with the rule (r < 1/2)
-           and without it, E_1 = 3 E_inf and 10 E_inf at tol 1e-2 (``rule`` column).
+sphere_fitted  the sphere with the edge structure left to the fits (``solvers.fft3d.edges_fitted``):
+           the automatic solve against 4 times finer cells per axis on its own period, over the
+           quantities the estimate covers, at 1e-4 ... 3e-2 m/s, tol 1e-2, 5e-3, 1e-3: SLS mu 0
+           and 0.5, a two-term series of r = 1/2, and (seventh session) films 4 and 11 times
+           stiffer when glassy (E_1 = 3, 10 E_inf; trailing edges from the pressure side), mu 0
+           and 0.5 (``trailing_fit`` column); ``--sphere-films`` runs some films alone.
+sphere_beyond_cost  the stiff films' cost (E_1 = 3, 10 E_inf, F = 1 N, mu 0) against the
+           elastic sphere at tol 1e-2, 5e-3, 1e-3, 1e-4 ... 3e-2 m/s: CPU time ratio, fastest
+           of 3 warm interleaved runs, each pair in a child process (refused, or past 300 s:
+           a row that says so).
 estimate   the error estimate against the true error (a much finer, twice longer fixed grid:
            2^21 points over twice the period) over V, tol 1e-3 and 1e-4, mu 0 and 1.
 reference  small contacts (a_H/h = 0.01 ... 0.001): the film solver and the independent x-space
@@ -332,7 +337,7 @@ def _in_child(fn, timeout: float):
     return out
 
 
-def part_sphere_beyond_cost(quick: bool, out, t0, tols=None) -> list[dict]:
+def part_sphere_beyond_cost(quick: bool, out, t0, tols=None, films=None) -> list[dict]:
     """The sphere's cost (F = 1 N, mu 0) beyond the fitted range (seventh session): films 4 and
     11 times stiffer when glassy (E_1 = 3, 10 E_inf, tau 10 ms) at 1e-4 ... 3e-2 m/s, tol 1e-2,
     5e-3, 1e-3, against the elastic (E_inf) sphere at the same tol: CPU times, fastest of 3
@@ -341,7 +346,10 @@ def part_sphere_beyond_cost(quick: bool, out, t0, tols=None) -> list[dict]:
     from .viscoelastic_cost import _timed_pair  # (it imports this module)
     speeds = (1e-3, 3e-2) if quick else _BEYOND_SPEEDS
     tols = tols or ((1e-2,) if quick else (1e-2, 5e-3, 1e-3))
+    chosen = films
     films = STIFF_FILMS[:1] if quick else STIFF_FILMS
+    if chosen:  # --sphere-films (also the SLS, for comparison)
+        films = [f for f in (("SLS", SLS),) + STIFF_FILMS if f[0] in chosen]
     rows, load0 = [], os.getloadavg()[0]
     n = len(films) * len(tols) * len(speeds)
     for name, prony in films:
@@ -369,7 +377,8 @@ def part_sphere_beyond_cost(quick: bool, out, t0, tols=None) -> list[dict]:
                          f"{row.get('time_ratio', math.nan):.2f}x", t0)
     keys = dict.fromkeys(k for row in rows for k in row)
     rows = [dict.fromkeys(keys, math.nan) | row for row in rows]
-    tag = "" if tols == (1e-2, 5e-3, 1e-3) else "_tol" + "_".join(f"{t:g}" for t in tols)
+    tag = ("" if tols == (1e-2, 5e-3, 1e-3) else "_tol" + "_".join(f"{t:g}" for t in tols)) + \
+        ("_" + "_".join(chosen) if chosen else "")
     table(rows, out / f"viscoelastic_sphere_beyond_cost{tag}.csv",
           f"Viscoelastic sphere (F = 1 N, mu 0) on stiff SLS films (E_1 = 3, 10 E_inf, tau 10 ms) "
           f"against the elastic one (E_inf), CPU time ratio (fastest of 3 warm interleaved runs); "
@@ -764,7 +773,10 @@ def main(argv=None) -> int:
                             "speed and claim CSVs, made now or before)")
         p.add_argument("--sphere-films", default="",
                        help="sphere_fitted: a comma list of its films (SLS, two-term, E1=3Einf, "
-                            "E1=10Einf) to run alone (default all)")
+                            "E1=10Einf) to run alone (default all); sphere_beyond_cost: its films "
+                            "(E1=3Einf, E1=10Einf, or SLS)")
+        p.add_argument("--sphere-tols", default="",
+                       help="sphere_beyond_cost: comma list of tolerances (default 1e-2,5e-3,1e-3)")
 
     args, out = parse(argv, __doc__.splitlines()[0], "out/viscoelastic", extra=extra)
     parts = args.parts.split(",")
@@ -779,7 +791,10 @@ def main(argv=None) -> int:
         part_sphere_fitted(args.quick, out, t0,
                            [f for f in args.sphere_films.split(",") if f] or None)
     if "sphere_beyond_cost" in parts:
-        part_sphere_beyond_cost(args.quick, out, t0)
+        part_sphere_beyond_cost(args.quick, out, t0,
+                                tuple(float(t) for t in args.sphere_tols.split(",")) or None
+                                if args.sphere_tols else None,
+                                [f for f in args.sphere_films.split(",") if f] or None)
     if "reference" in parts:
         part_reference(args.quick, out, t0)
     if "claim" in parts:
