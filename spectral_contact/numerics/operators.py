@@ -95,11 +95,15 @@ class FourierOperator:
         """``preconditioner`` of a line grid, the same numbers: there the direction is +1 at
         every mode (``Grid.direction``) and |k| increases, so the symbol at |k| = k_cut is one
         value, evaluated once instead of over the half spectrum (a viscoelastic film's complex
-        modulus and products there: ~1.5 ms of a cold paper-scene solve's 13), and the modes
-        below k_cut are the first ones."""
+        modulus and products there: ~1.5 ms of a cold paper-scene solve's 13), the modes
+        below k_cut are the first ones, and 1/S above is the operator's one inverse symbol."""
         m = int(k.searchsorted(k_cut))  # the modes k < k_cut
-        inv = np.empty(k.shape, dtype=complex)
-        np.divide(1.0, self.symbol[m:], out=inv[m:])
+        # 1/S at every mode, once per operator (a solve asks for a cut-off per contact size)
+        full = getattr(self, "_inverse", None)
+        if full is None:
+            with np.errstate(divide="ignore", invalid="ignore"):  # (S(0) = 0: below any cut)
+                full = self._inverse = 1.0 / self.symbol
+        inv = full.copy()
         clipped = np.asarray(self.symbol_function((np.ones(1),), np.full(1, k_cut)))
         if self.constant:
             clipped = clipped + self.constant
