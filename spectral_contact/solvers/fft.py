@@ -261,17 +261,30 @@ def _level_sizes(L, a, tol, grid_points, domain_length, edge_scales=()):
         return [grid_points // 2, grid_points]
     across = max(_FIRST_ACROSS, _EDGE_ERROR / tol)
     n1 = pow2_at_least(L / (2 * a / across), MIN_POINTS)
+    edge = None  # the edge structure that sets the grid, if one does
     for width, weight in edge_scales:
         if weight * width / a > VISCO_EDGE_SHARE * tol:
-            n1 = max(n1, pow2_at_least(VISCO_EDGE_CELLS * L / (2 * width), MIN_POINTS))
-    if n1 > MAX_POINTS and domain_length is not None:
+            n_edge = pow2_at_least(VISCO_EDGE_CELLS * L / (2 * width), MIN_POINTS)
+            if n_edge > n1:
+                n1, edge = n_edge, width
+    # the third level (2 n1), the first whose estimate may stop the refinement, must fit: say
+    # so before allocating anything (a grid of 2^21 used to run two levels for ~15 s and stop
+    # with exit 3, its estimate below tol but one level short)
+    needed = 2 * n1
+    if needed > MAX_POINTS and edge is not None:
         raise InputError(
-            f"domain_length {domain_length:.4g} h needs ~{n1:.1e} grid points to resolve "
+            f"the viscoelastic edge structure |V| tau = {edge:.2g} h (a Prony term heavier than "
+            f"E_i/E_inf = {_LineSolve.LAYER_FITTED_WEIGHT:g}) needs ~{needed:.1e} grid points "
+            f"on the period {L:.3g} h at tol {tol:g} (> {MAX_POINTS} = 2^22): raise tol, or "
+            f"change the speed or the Prony series")
+    if needed > MAX_POINTS and domain_length is not None:
+        raise InputError(
+            f"domain_length {domain_length:.4g} h needs ~{needed:.1e} grid points to resolve "
             f"this contact (half-width {a:.2g} h) at tol {tol:g} (> 2^22): shorten "
             f"domain_length, or leave it automatic")
-    if n1 > MAX_POINTS:  # say so before allocating anything
+    if needed > MAX_POINTS:
         raise InputError(
-            f"tol {tol:g} needs ~{n1:.1e} grid points for a contact of half-width {a:.2g} h "
+            f"tol {tol:g} needs ~{needed:.1e} grid points for a contact of half-width {a:.2g} h "
             f"(> {MAX_POINTS} = 2^22): raise tol, or use method abel or model hertz")
     n1 = max(n1, 2 * MIN_POINTS)  # two distinct levels to compare from the start
     sizes = [n1 // 2, n1]
@@ -363,7 +376,7 @@ def solve_fft(scene: Scene, model: str = "exact", tol: float = 1e-4, grid_points
     retry.counters = dict(prob.counters)
     try:
         return run(_LineSolve(retry, grid_points, domain_length, resolve_edges=True))
-    except ConvergenceError:
+    except (ConvergenceError, InputError):  # (InputError: the resolved grid passes 2^22)
         raise first from None  # (its message names the stagnation and what to change)
 
 
