@@ -126,8 +126,10 @@ def lattice_error(t: float) -> float:
     one canonical scene (a_H/h 1, mu 0, relaxed film: 66 grids of 4096-12288 points, both
     edges, grid and half-cell shift, against 2^17 points corrected the same way;
     studies.edge_noise --parts fit) and verified on 14 others (studies/README, viscoelastic:
-    the edges' grid-to-grid noise): it takes the fit's error from rms 0.022 cells (max 0.065)
-    to 1e-4 - 2e-4 (max 1e-3).  Outside LATTICE_ERROR_RANGE: its end values."""
+    the edges' grid-to-grid noise): it takes the fit's error from rms 0.020-0.024 cells (max
+    0.065) to 2e-5 - 2.5e-4 (max 1.1e-3; 9e-4 rms at 37 cells per half-width; 0.002-0.011 at a
+    viscoelastic trailing edge whose |V| tau is ~ a cell).  Outside LATTICE_ERROR_RANGE: its
+    end values."""
     lo, hi = LATTICE_ERROR_RANGE
     u = (2.0 * min(max(t, lo), hi) - 0.75) / 1.25  # [-0.25, 1] -> [-1, 1]
     c0, c1, c2, c3, c4 = LATTICE_ERROR_COEFFICIENTS

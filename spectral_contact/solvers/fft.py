@@ -100,8 +100,9 @@ LATTICE_MAX_DX = 0.1
 lattice_error``) on cells up to this size [h]: the fit's farthest node (5 cells out) within
 h/2 of the edge, where the kernel at the cell scale is the half-space's.  Measured (studies/
 README, viscoelastic, the edges' grid-to-grid noise): the universal error holds to dx/h 0.06
-(a_H/h 30: rms 0.022 -> 0.003 cells), is half-held at 0.09-0.13 and gone beyond (a_H/h 10 at
-mu 10, dx/h 0.13-0.3: rms 0.08 either way)."""
+(a_H/h 30: rms 0.022 -> 0.003 cells), half of it at 0.06-0.09 (0.015 -> 0.008), neither
+better nor worse at 0.09-0.13 (0.031 -> 0.022; a_H/h 10 at mu 10: 0.056 -> 0.054) nor beyond
+(a_H/h 10 at mu 10, dx/h 0.13-0.3: 0.08-0.11 either way)."""
 
 
 LATTICE_CORRECTION = False
