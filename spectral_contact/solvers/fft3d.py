@@ -31,6 +31,7 @@ Memory is estimated before any allocation; a scene that would not fit is refused
 """
 from __future__ import annotations
 
+import functools
 import logging
 import math
 import os
@@ -115,6 +116,7 @@ def trailing_from_pressure(film) -> bool:
     return film.relaxed_young / film.glassy_young < _PRESSURE_SIDE_BELOW * (1.0 - 1e-9)
 
 
+@functools.lru_cache(maxsize=64)
 def _peak_factor(w: float) -> float:
     """max over z of z + w D(z) (D Dawson's integral; z = sqrt(eps/lambda)): the leading
     edge layer's local maximum in units of A sqrt(lambda) (w > _PEAK_WEIGHT)."""
