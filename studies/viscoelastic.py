@@ -337,12 +337,14 @@ def _in_child(fn, timeout: float):
     return out
 
 
-def part_sphere_beyond_cost(quick: bool, out, t0, tols=None, films=None) -> list[dict]:
+def part_sphere_beyond_cost(quick: bool, out, t0, tols=None, films=None,
+                            forces=(1.0,)) -> list[dict]:
     """The sphere's cost (F = 1 N, mu 0) beyond the fitted range (seventh session): films 4 and
     11 times stiffer when glassy (E_1 = 3, 10 E_inf, tau 10 ms) at 1e-4 ... 3e-2 m/s, tol 1e-2,
     5e-3, 1e-3, against the elastic (E_inf) sphere at the same tol: CPU times, fastest of 3
     warm interleaved runs (``viscoelastic_cost._timed_pair``), each pair in a child process
-    (refused, or past _BEYOND_TIMEOUT: a row that says so)."""
+    (refused, or past _BEYOND_TIMEOUT: a row that says so).  ``forces`` [N]: the sphere's
+    loads (--sphere-forces; the elastic sphere's own grid at tol 1e-3 depends on it)."""
     from .viscoelastic_cost import _timed_pair  # (it imports this module)
     speeds = (1e-3, 3e-2) if quick else _BEYOND_SPEEDS
     tols = tols or ((1e-2,) if quick else (1e-2, 5e-3, 1e-3))
@@ -351,12 +353,12 @@ def part_sphere_beyond_cost(quick: bool, out, t0, tols=None, films=None) -> list
     if chosen:  # --sphere-films (also the SLS, for comparison)
         films = [f for f in (("SLS", SLS),) + STIFF_FILMS if f[0] in chosen]
     rows, load0 = [], os.getloadavg()[0]
-    n = len(films) * len(tols) * len(speeds)
+    n = len(films) * len(tols) * len(speeds) * len(forces)
     for name, prony in films:
-        for tol in tols:
-            kw = dict(indenter="sphere", force=1.0, mu=0.0, tol=tol, **FILM)
+        for tol, force in ((t, f) for t in tols for f in forces):
+            kw = dict(indenter="sphere", force=force, mu=0.0, tol=tol, **FILM)
             for V in speeds:
-                row = {"film": name, "tol": tol, "speed_m_per_s": V}
+                row = {"film": name, "tol": tol, "force_N": force, "speed_m_per_s": V}
 
                 def pair(V=V, kw=kw, prony=prony):
                     el, r, (c_el, c_v), _ = _timed_pair(lambda: solve(**kw),
@@ -365,6 +367,7 @@ def part_sphere_beyond_cost(quick: bool, out, t0, tols=None, films=None) -> list
                             "grid_x": r.grid_points[0], "grid_y": r.grid_points[1],
                             "grid_x_elastic": el.grid_points[0],
                             "error_estimate": r.error_estimate,
+                            "error_estimate_elastic": el.error_estimate,
                             "fft_pairs_ratio": r.counters["transforms"] / el.counters["transforms"]}
                 t = time.perf_counter()
                 status, value = _in_child(pair, _BEYOND_TIMEOUT)
@@ -378,9 +381,11 @@ def part_sphere_beyond_cost(quick: bool, out, t0, tols=None, films=None) -> list
     keys = dict.fromkeys(k for row in rows for k in row)
     rows = [dict.fromkeys(keys, math.nan) | row for row in rows]
     tag = ("" if tols == (1e-2, 5e-3, 1e-3) else "_tol" + "_".join(f"{t:g}" for t in tols)) + \
-        ("_" + "_".join(chosen) if chosen else "")
+        ("_" + "_".join(chosen) if chosen else "") + \
+        ("" if tuple(forces) == (1.0,) else "_F" + "_".join(f"{f:g}" for f in forces))
     table(rows, out / f"viscoelastic_sphere_beyond_cost{tag}.csv",
-          f"Viscoelastic sphere (F = 1 N, mu 0) on stiff SLS films (E_1 = 3, 10 E_inf, tau 10 ms) "
+          f"Viscoelastic sphere (F = {', '.join(f'{f:g}' for f in forces)} N, mu 0) on stiff "
+          f"SLS films (E_1 = 3, 10 E_inf, tau 10 ms) "
           f"against the elastic one (E_inf), CPU time ratio (fastest of 3 warm interleaved runs); "
           f"load average {load0:.1f} -> {os.getloadavg()[0]:.1f}")
     return rows
@@ -766,6 +771,19 @@ PARTS = ("speed", "sphere", "sphere_cost", "sphere_fitted", "sphere_beyond_cost"
          "estimate", "images", "second", "edge_layer", "edge_range")
 
 
+def _forces(text: str) -> tuple:
+    """'0.8,1' -> (0.8, 1.0); one line and exit 2 unless each is a number > 0."""
+    try:
+        forces = tuple(float(f) for f in text.split(","))
+    except ValueError:
+        forces = ()
+    if not forces or not all(0.0 < f < math.inf for f in forces):
+        print(f"--sphere-forces must be a comma list of loads > 0 [N]; got {text!r}",
+              file=sys.stderr)
+        raise SystemExit(2)
+    return forces
+
+
 def main(argv=None) -> int:
     def extra(p):
         p.add_argument("--parts", default=",".join(PARTS),
@@ -777,6 +795,8 @@ def main(argv=None) -> int:
                             "(E1=3Einf, E1=10Einf, or SLS)")
         p.add_argument("--sphere-tols", default="",
                        help="sphere_beyond_cost: comma list of tolerances (default 1e-2,5e-3,1e-3)")
+        p.add_argument("--sphere-forces", default="1",
+                       help="sphere_beyond_cost: comma list of the sphere's loads [N] (default 1)")
 
     args, out = parse(argv, __doc__.splitlines()[0], "out/viscoelastic", extra=extra)
     parts = args.parts.split(",")
@@ -794,7 +814,8 @@ def main(argv=None) -> int:
         part_sphere_beyond_cost(args.quick, out, t0,
                                 tuple(float(t) for t in args.sphere_tols.split(",")) or None
                                 if args.sphere_tols else None,
-                                [f for f in args.sphere_films.split(",") if f] or None)
+                                [f for f in args.sphere_films.split(",") if f] or None,
+                                _forces(args.sphere_forces))
     if "reference" in parts:
         part_reference(args.quick, out, t0)
     if "claim" in parts:
