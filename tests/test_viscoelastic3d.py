@@ -92,3 +92,32 @@ def test_pressure_side_only_below_half():
     film = make_scene(indenter="sphere", force=1.0, speed=1e-3, prony=((11 * E_INF, 0.01),),
                       **FILM).core_film()
     assert not fft3d.edges_fitted(film, 1e-2)
+
+
+# the locator's column at the tip of the SLS sphere (F = 1.1 N, 1 mm/s, tol 1e-3): one contact
+# node whose two edge fits cross (studies/README, "the sphere at tol 1e-3")
+_TIP_GAP = (1.7248005367307659, 1.2612718720182092, 0.86992149697511256, 0.55482136858401365,
+            0.31711702660134278, 0.16347607770140027, 0.065029929691288638,
+            0.0099139483986042803, 1.7465885515655089e-07)
+
+
+def test_a_one_node_run_with_crossed_fits_does_not_wrap_the_period():
+    n, d = 128, 0.17355732523953915
+    y = (np.arange(n) - n // 2) * d
+    gap = np.full(n, 2.0)
+    gap[56:65] = _TIP_GAP
+    gap[64:73] = _TIP_GAP[::-1]
+    active = np.zeros(n, bool)
+    active[64] = True
+    p = np.where(active, 0.2728054849995966, 0.0)
+    length, lo, hi = _chords(y, d, gap[:, None], p[:, None], active[:, None])
+    # (before: the crossed fits read as a run wrapping the period, hi = 22.2 on y < 11.1)
+    assert lo[0] <= hi[0] <= y[-1] and 0.0 <= length[0] <= d
+
+
+def test_sphere_tip_column_keeps_the_period():
+    # before: y_max = 22.2 h from the column above, the period along y 39.8 h and 512 x 1024
+    r = solve(indenter="sphere", force=1.1, mu=0.0, tol=1e-3, speed=1e-3,
+              prony=((E_INF, 0.01),), **FILM)
+    assert r.domain_length[1] < 1.1 * r.domain_length[0]
+    assert r.grid_points[1] <= r.grid_points[0]
