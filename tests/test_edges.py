@@ -72,3 +72,80 @@ def test_contact_runs_same_runs_in_the_same_order_as_rolling():
         n_checked += 1
     assert n_checked > 200
     assert contact_runs(np.zeros(8, bool)) == []
+
+
+def _line_solutions(sizes, period, film_kw, load, mu):
+    """Fixed-grid collocation solves of a line (the solver's contact solve, no refinement)."""
+    from spectral_contact.numerics.contact import solve_contact
+    from spectral_contact.numerics.grid import Grid
+    from spectral_contact.physics.scene import Scene
+
+    scene = Scene(load=load, mu=mu, **film_kw)
+    film = scene.core_film()
+    ind = [scene.indenter_object()]
+    out = []
+    for n in sizes:
+        g = Grid.centered(n, period, 0.0)
+        out.append((g, solve_contact(g, mu, ind, film=film, rtol=1e-10, accept=1e-8),
+                    film.trailing_edge_layer()))
+    return out
+
+
+@pytest.mark.parametrize("film_kw,load,mu", [
+    # a_H/h 1 (the series' own scene: P = 2 pi (a_H/h)^2 E h/(6R) ... in N/m), relaxed film
+    (dict(young=2.2e6, thickness=0.002, radius=0.130), 2 * np.pi * 2.2e6 * 0.002 ** 2 / (6 * 0.130)
+     * 1.0, 0.0),
+    # the paper's scene on the SLS film at 10 m/s (trailing layer fit, friction): not fitted on
+    (dict(young=2.2e6, thickness=0.002, radius=0.130, speed=10.0, prony=((2.2e6, 0.01),)),
+     200.0, 2.0),
+])
+def test_lattice_error_removes_the_collocation_edge_error(film_kw, load, mu):
+    """The 4-node fit's error at a square-root edge is dx times a function of the fitted
+    offset (``lattice_error``): over grids of 2048-3072 points on one period, both edges, the
+    raw fits are up to 0.03-0.065 cells off a 2^16-point reference, the corrected ones within
+    0.005 (studies.edge_noise: rms 1e-4 - 2e-4)."""
+    from spectral_contact.numerics.edges import fit_edges
+
+    period = 21.9
+    (gr, ref, tr), = _line_solutions([65536], period, film_kw, load, mu)
+    (l_ref, r_ref), = fit_edges(gr.x, gr.dx, ref.gap, ref.pressure, ref.active, tr, True)
+    raw, corrected = [], []
+    for g, sol, tr in _line_solutions([2048, 2304, 2560, 2816, 3072], period, film_kw, load, mu):
+        for lattice, errs in ((False, raw), (True, corrected)):
+            (left, right), = fit_edges(g.x, g.dx, sol.gap, sol.pressure, sol.active, tr, lattice)
+            errs += [abs(left - l_ref) / g.dx, abs(right - r_ref) / g.dx]
+    assert max(raw) > 0.02  # (the noise the correction removes)
+    assert max(corrected) < 0.005
+
+
+def test_lattice_error_is_smooth_in_the_fitted_offset():
+    """Continuous across the offsets the fit gives (the jump in the edge's cell position,
+    where the next node joins the contact, is at the two ends of that range), flat beyond."""
+    from spectral_contact.numerics.edges import LATTICE_ERROR_RANGE, lattice_error
+
+    lo, hi = LATTICE_ERROR_RANGE
+    t = np.linspace(lo, hi, 1001)
+    g = np.array([lattice_error(v) for v in t])
+    assert np.max(np.abs(np.diff(g) / np.diff(t))) < 0.4  # (cells per cell of offset)
+    assert lattice_error(lo - 0.05) == lattice_error(lo) and lattice_error(1.4) == lattice_error(hi)
+    assert -0.025 < g.min() < -0.015 and 0.06 < g.max() < 0.075  # (the measured range)
+
+
+def test_line_solver_with_the_lattice_correction_settles_x_c_from_grid_to_grid(monkeypatch):
+    """The paper's scene on the SLS film at 10 m/s (nearly glassy; the lead's seventh-session
+    case), fixed grids on one period: x_c/a wandered by ~1e-4 from N to N (the edges' noise,
+    not monotone in N); with ``solvers.fft.LATTICE_CORRECTION`` within 1e-5."""
+    from spectral_contact import solve
+    from spectral_contact.solvers import fft as fft_solver
+
+    kw = dict(load=200.0, mu=2.0, tol=1e-4, young=2.2e6, thickness=0.002, radius=0.130,
+              speed=10.0, prony=((2.2e6, 0.01),), domain_length=20.95 * 0.002)
+
+    def spread():
+        c = [solve(grid_points=n, **kw) for n in (2048, 2304, 2560, 2816)]
+        return (max(r.center for r in c) - min(r.center for r in c)) / c[0].half_width
+
+    before = spread()
+    monkeypatch.setattr(fft_solver, "LATTICE_CORRECTION", True)
+    after = spread()
+    assert before > 3e-5 and after < 1e-5

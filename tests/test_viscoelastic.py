@@ -855,3 +855,27 @@ def test_sphere_slow_sliding_edge_structure_fitted_not_gridded():
     rad = ref["contact_radius_m"]
     assert abs(s["pressure_centroid_x_m"] - ref["pressure_centroid_x_m"]) / rad <= \
         r.error_estimate
+
+
+def test_resolved_edge_structure_beyond_the_largest_grid_is_refused_before_any_solve(
+        monkeypatch):
+    """A heavy Prony term (E_i/E_inf > 10 since the seventh session: its edge structure
+    resolved; E_i = 2 E_inf before, now fitted) whose |V| tau needs a third level beyond 2^22
+    points: refused at once, naming the edge structure (InputError, exit 2).  Before: two
+    levels of 2^21 and 2^22 points (~15 s), then exit 3 with the message "error estimate
+    4.9e-05 > tol 1.0e-04" (false: the estimate was below tol, one level short of the three
+    it needs)."""
+    from spectral_contact.solvers import fft
+    from studies.viscoelastic import E_INF, FILM, load_for
+
+    def no_levels(*args, **kwargs):
+        raise AssertionError("the refinement levels ran")
+    monkeypatch.setattr(fft, "refine", no_levels)  # refused before the levels, not after
+    prony = tuple((11.0 * E_INF, 10.0 ** k) for k in range(-5, 0))
+    with pytest.raises(InputError, match="edge structure"):
+        solve(load=load_for(0.3), mu=0.5, speed=1e-5, prony=prony, tol=1e-4, **FILM)
+    rc = main(["solve", "--load", f"{load_for(0.3):.6g}", "--mu", "0.5", "--speed", "1e-5",
+               "--prony", ",".join(f"{11.0 * E_INF:g},{10.0 ** k:g}" for k in range(-5, 0)),
+               "--young", f"{E_INF:g}", "--thickness", f"{FILM['thickness']:g}",
+               "--radius", f"{FILM['radius']:g}"])
+    assert rc == 2

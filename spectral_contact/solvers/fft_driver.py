@@ -282,6 +282,12 @@ def refine(steps, shapes, lengths, center, located=None) -> Levels:
                 return lv
             check_stagnation(steps, lv.ests, shape, est, len(lv.history))
         prev = cur
+    if est <= tol:  # (below tol, but too few levels for the estimate to count)
+        raise ConvergenceError(
+            f"grid refinement reached the largest grid, {_shape_text(shapes[-1])} points, "
+            f"after {len(lv.history)} levels, fewer than the {steps.MIN_LEVELS} its error "
+            f"estimate needs; raise tol or set grid_points", residuals=lv.ests or [est],
+            iterations=len(lv.history))
     raise ConvergenceError(
         f"grid refinement reached {_shape_text(shapes[-1])} points with error estimate "
         f"{est:.1e} > tol {tol:.1e}; raise tol or set grid_points", residuals=lv.ests or [est],
