@@ -54,6 +54,17 @@ def test_old_trailing_root_failed_there():
     assert _old_trailing_root(gaps, dx, terms) is None
 
 
+def test_trailing_root_behind_the_last_contact_node():
+    """E_1 = 10 E_inf, a_H/h 0.3 at 2.5e-5 m/s on 8192 points: the collocation held a node 0.28
+    cells beyond the trailing edge in contact (the glassy gap there is 1/11 of the elastic
+    one); the gaps behind it as the solver found them give the fixed point -0.26 cells (the
+    2^19-point edge: -0.283).  With the elastic fits' range (-0.25, 1.5) the fit fell back to
+    the elastic one, 0.43 cells off."""
+    gaps = [0.0, 9.578e-05, 3.022e-04, 5.808e-04, 9.205e-04, 1.309e-03, 1.744e-03]
+    t = edges._trailing_root(gaps, 2.357e-3, [(10.0 / 11.0, 1.375e-3)])
+    assert t == pytest.approx(-0.283, abs=0.03)
+
+
 def test_peak_odd_even_line():
     """A smooth peak (1 - 2 (x - 0.013)^2, between nodes) plus a 1 % odd-even mode: the line's
     viscoelastic peak fit (``edges.peak_odd_even``) returns 1 within 1e-6; the 3-node
