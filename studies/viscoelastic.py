@@ -16,11 +16,16 @@ sphere_cost  the sphere's cost (F = 1 N, mu = 0) against the elastic sphere at t
            (1e-2, 5e-3) at 1e-4, 1e-3, 3e-3, 1e-2 m/s (V tau/h 5e-4 ... 5e-2, where the edge
            rule refines the grid along x): CPU times, fastest of warm interleaved runs
            (``viscoelastic_cost._timed_pair``), grids, estimates; a refused solve is a row.
-sphere_fitted  the sphere without the edge grid rule (``solvers.fft3d.edges_fitted``): the
-           automatic solve against 4 times finer cells per axis on its own period, over the
-           quantities the estimate covers, at 1e-4 ... 3e-2 m/s; SLS mu 0 and 0.5 (tol 1e-2,
-           5e-3, 1e-3), a two-term series of r = 1/2 (the same), and with the rule (r < 1/2)
-           and without it, E_1 = 3 E_inf and 10 E_inf at tol 1e-2 (``rule`` column).
+sphere_fitted  the sphere with the edge structure left to the fits (``solvers.fft3d.edges_fitted``):
+           the automatic solve against 4 times finer cells per axis on its own period, over the
+           quantities the estimate covers, at 1e-4 ... 3e-2 m/s, tol 1e-2, 5e-3, 1e-3: SLS mu 0
+           and 0.5, a two-term series of r = 1/2, and (seventh session) films 4 and 11 times
+           stiffer when glassy (E_1 = 3, 10 E_inf; trailing edges from the pressure side), mu 0
+           and 0.5 (``trailing_fit`` column); ``--sphere-films`` runs some films alone.
+sphere_beyond_cost  the stiff films' cost (E_1 = 3, 10 E_inf, F = 1 N, mu 0) against the
+           elastic sphere at tol 1e-2, 5e-3, 1e-3, 1e-4 ... 3e-2 m/s: CPU time ratio, fastest
+           of 3 warm interleaved runs, each pair in a child process (refused, or past 300 s:
+           a row that says so).
 estimate   the error estimate against the true error (a much finer, twice longer fixed grid:
            2^21 points over twice the period) over V, tol 1e-3 and 1e-4, mu 0 and 1.
 reference  small contacts (a_H/h = 0.01 ... 0.001): the film solver and the independent x-space
@@ -239,59 +244,154 @@ def part_sphere_cost(quick: bool, out, t0) -> list[dict]:
     return rows
 
 
-def part_sphere_fitted(quick: bool, out, t0) -> list[dict]:
+def part_sphere_fitted(quick: bool, out, t0, films=None) -> list[dict]:
     import spectral_contact.solvers.fft3d as f3
+    from spectral_contact.api import make_scene
     speeds = (1e-3, 1e-2) if quick else (1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2)
     two = ((0.5 * E_INF, 1e-3), (0.5 * E_INF, 0.1))
-    cases = [("SLS", SLS, 0.0, (1e-2, 5e-3, 1e-3)), ("SLS", SLS, 0.5, (1e-2, 5e-3, 1e-3)),
-             ("two-term", two, 0.0, (1e-2, 5e-3, 1e-3)), ("E1=3Einf", ((3 * E_INF, TAU),), 0.0, (1e-2,)),
-             ("E1=10Einf", ((10 * E_INF, TAU),), 0.0, (1e-2,))]
+    tols = (1e-2, 5e-3, 1e-3)
+    # the seventh session's: films 4 and 11 times stiffer when glassy (trailing edges fitted
+    # from the pressure side; E_1 = 10 E_inf's leading edge peak gridded where it may be the
+    # maximum, ``fft3d._leading_peak_terms``), also with friction
+    cases = [("SLS", SLS, 0.0, tols), ("SLS", SLS, 0.5, tols), ("two-term", two, 0.0, tols),
+             ("E1=3Einf", ((3 * E_INF, TAU),), 0.0, tols),
+             ("E1=10Einf", ((10 * E_INF, TAU),), 0.0, tols),
+             ("E1=3Einf", ((3 * E_INF, TAU),), 0.5, (1e-2, 1e-3)),
+             ("E1=10Einf", ((10 * E_INF, TAU),), 0.5, (1e-2, 1e-3))]
     if quick:
         cases = cases[:1]
-    rows, L, keep = [], FILM["thickness"], f3._FITTED_MIN_RATIO
-    total = sum(len(c[3]) * (2 if c[0].startswith("E1") else 1) for c in cases) * len(speeds)
-    try:
-        for name, prony, mu, tols in cases:
-            for forced in ((None,) if name in ("SLS", "two-term") else (None, 0.0)):
-                f3._FITTED_MIN_RATIO = keep if forced is None else forced  # 0: no rule
-                for tol in tols:
-                    for V in speeds:
-                        kw = dict(indenter="sphere", force=1.0, mu=mu, speed=V, prony=prony,
-                                  tol=tol, **FILM)
-                        row = {"film": name, "mu": mu, "tol": tol, "speed_m_per_s": V,
-                               "rule": forced is None and name.startswith("E1")}
-                        try:
-                            r = solve(**kw)
-                        except (InputError, ConvergenceError) as exc:
-                            row["status"] = type(exc).__name__ + ": " + str(exc)[:60]
-                            rows.append(row)
-                            continue
-                        (nx, ny), (Lx, Ly) = r.grid_points, r.domain_length
-                        n = (min(8192, 4 * nx), min(8192, 4 * ny))
-                        try:
-                            ref = solve(**kw, grid_points=n,
-                                        domain_length=(Lx * L, Ly * L)).summary()
-                        except InputError as exc:  # too large for the machine
-                            row |= {"grid_x": nx, "grid_y": ny,
-                                    "error_estimate": r.error_estimate,
-                                    "status": "reference refused: " + str(exc)[:60]}
-                            rows.append(row)
-                            continue
-                        err = _sphere_change(r.summary(), ref, _SPHERE_COVERED)
-                        row |= {"grid_x": nx, "grid_y": ny, "error_estimate": r.error_estimate,
-                                "true_error": err, "bounded": bool(err <= r.error_estimate),
-                                "status": "ok"}
-                        row |= {"error_" + k: _sphere_change(r.summary(), ref, (k,))
-                                for k in _SPHERE_COVERED}
-                        rows.append(row)
-                        progress(len(rows), total, f"sphere fitted {name} tol {tol:g} V={V:g}", t0)
-    finally:
-        f3._FITTED_MIN_RATIO = keep
+    if films:  # --sphere-films: these films' cases only
+        cases = [c for c in cases if c[0] in films]
+    rows, L = [], FILM["thickness"]
+    total = sum(len(c[3]) for c in cases) * len(speeds)
+    for name, prony, mu, tols_ in cases:
+        for tol in tols_:
+            for V in speeds:
+                kw = dict(indenter="sphere", force=1.0, mu=mu, speed=V, prony=prony, tol=tol,
+                          **FILM)
+                film = make_scene(indenter="sphere", **{k: v for k, v in kw.items()
+                                                        if k not in ("indenter", "tol")}).core_film()
+                row = {"film": name, "mu": mu, "tol": tol, "speed_m_per_s": V,
+                       "trailing_fit": "pressure" if f3.trailing_from_pressure(film) else "gap"}
+                try:
+                    r = solve(**kw)
+                except (InputError, ConvergenceError) as exc:
+                    row["status"] = type(exc).__name__ + ": " + str(exc)[:60]
+                    rows.append(row)
+                    progress(len(rows), total, f"sphere fitted {name} tol {tol:g} V={V:g}: "
+                             f"{row['status'][:30]}", t0)
+                    continue
+                (nx, ny), (Lx, Ly) = r.grid_points, r.domain_length
+                n = (min(8192, 4 * nx), min(8192, 4 * ny))
+                row |= {"grid_x": nx, "grid_y": ny, "error_estimate": r.error_estimate}
+                if n[0] * n[1] > 2**23:  # (a reference past 4096 x 2048: minutes each here)
+                    row["status"] = f"reference skipped: {n[0]} x {n[1]}"
+                    rows.append(row)
+                    progress(len(rows), total, f"sphere fitted {name} tol {tol:g} V={V:g}: "
+                             "no reference", t0)
+                    continue
+                try:
+                    ref = solve(**kw, grid_points=n, domain_length=(Lx * L, Ly * L)).summary()
+                except InputError as exc:  # too large for the machine
+                    row["status"] = "reference refused: " + str(exc)[:60]
+                    rows.append(row)
+                    continue
+                err = _sphere_change(r.summary(), ref, _SPHERE_COVERED)
+                row |= {"true_error": err, "bounded": bool(err <= r.error_estimate),
+                        "status": "ok"}
+                row |= {"error_" + k: _sphere_change(r.summary(), ref, (k,))
+                        for k in _SPHERE_COVERED}
+                rows.append(row)
+                progress(len(rows), total, f"sphere fitted {name} mu {mu:g} tol {tol:g} V={V:g}: "
+                         f"{err:.1e} / {r.error_estimate:.1e}", t0)
     keys = dict.fromkeys(k for row in rows for k in row)  # refused rows: the columns as nan
     rows = [dict.fromkeys(keys, math.nan) | row for row in rows]
-    table(rows, out / "viscoelastic_sphere_fitted.csv",
-          "Viscoelastic sphere (F = 1 N) without the edge grid rule where edges_fitted: automatic "
-          "solve against 4x the cells per axis on its period (radius, centroid, d, p_max)")
+    table(rows, out / ("viscoelastic_sphere_fitted.csv" if not films else
+                       f"viscoelastic_sphere_fitted_{'_'.join(films)}.csv"),
+          "Viscoelastic sphere (F = 1 N): automatic solve (edge structure fitted where "
+          "edges_fitted) against 4x the cells per axis on its period (radius, centroid, d, p_max)")
+    return rows
+
+
+STIFF_FILMS = (("E1=3Einf", ((3 * E_INF, TAU),)), ("E1=10Einf", ((10 * E_INF, TAU),)))
+_BEYOND_SPEEDS = (1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2)
+_BEYOND_TIMEOUT = 300.0  # s per (elastic, viscoelastic) timed pair; past it: a "timeout" row
+
+
+def _in_child(fn, timeout: float):
+    """``fn()`` in a forked child, its value back, or ("timeout", seconds) when it runs past
+    ``timeout`` (the child is ended: it is this process's own)."""
+    import multiprocessing as mp
+
+    ctx = mp.get_context("fork")
+    q = ctx.Queue()
+
+    def target():
+        try:
+            q.put(("ok", fn()))
+        except (InputError, ConvergenceError) as exc:
+            q.put(("refused", type(exc).__name__ + ": " + str(exc).splitlines()[0][:100]))
+
+    child = ctx.Process(target=target)
+    child.start()
+    t = time.perf_counter()
+    try:
+        out = q.get(timeout=timeout)
+    except Exception:  # queue.Empty: still running
+        out = ("timeout", time.perf_counter() - t)
+    child.join(5.0)
+    if child.is_alive():
+        child.terminate()
+        child.join()
+    return out
+
+
+def part_sphere_beyond_cost(quick: bool, out, t0, tols=None, films=None) -> list[dict]:
+    """The sphere's cost (F = 1 N, mu 0) beyond the fitted range (seventh session): films 4 and
+    11 times stiffer when glassy (E_1 = 3, 10 E_inf, tau 10 ms) at 1e-4 ... 3e-2 m/s, tol 1e-2,
+    5e-3, 1e-3, against the elastic (E_inf) sphere at the same tol: CPU times, fastest of 3
+    warm interleaved runs (``viscoelastic_cost._timed_pair``), each pair in a child process
+    (refused, or past _BEYOND_TIMEOUT: a row that says so)."""
+    from .viscoelastic_cost import _timed_pair  # (it imports this module)
+    speeds = (1e-3, 3e-2) if quick else _BEYOND_SPEEDS
+    tols = tols or ((1e-2,) if quick else (1e-2, 5e-3, 1e-3))
+    chosen = films
+    films = STIFF_FILMS[:1] if quick else STIFF_FILMS
+    if chosen:  # --sphere-films (also the SLS, for comparison)
+        films = [f for f in (("SLS", SLS),) + STIFF_FILMS if f[0] in chosen]
+    rows, load0 = [], os.getloadavg()[0]
+    n = len(films) * len(tols) * len(speeds)
+    for name, prony in films:
+        for tol in tols:
+            kw = dict(indenter="sphere", force=1.0, mu=0.0, tol=tol, **FILM)
+            for V in speeds:
+                row = {"film": name, "tol": tol, "speed_m_per_s": V}
+
+                def pair(V=V, kw=kw, prony=prony):
+                    el, r, (c_el, c_v), _ = _timed_pair(lambda: solve(**kw),
+                                                        lambda: solve(speed=V, prony=prony, **kw), 3)
+                    return {"cpu_elastic_s": c_el, "cpu_visco_s": c_v, "time_ratio": c_v / c_el,
+                            "grid_x": r.grid_points[0], "grid_y": r.grid_points[1],
+                            "grid_x_elastic": el.grid_points[0],
+                            "error_estimate": r.error_estimate,
+                            "fft_pairs_ratio": r.counters["transforms"] / el.counters["transforms"]}
+                t = time.perf_counter()
+                status, value = _in_child(pair, _BEYOND_TIMEOUT)
+                row["wall_s"] = time.perf_counter() - t
+                row |= value if status == "ok" else {"status": value if status == "refused"
+                                                     else f"timeout after {value:.0f} s"}
+                row.setdefault("status", "ok")
+                rows.append(row)
+                progress(len(rows), n, f"{name} tol {tol:g} V={V:g}: {row['status'][:40]} "
+                         f"{row.get('time_ratio', math.nan):.2f}x", t0)
+    keys = dict.fromkeys(k for row in rows for k in row)
+    rows = [dict.fromkeys(keys, math.nan) | row for row in rows]
+    tag = ("" if tols == (1e-2, 5e-3, 1e-3) else "_tol" + "_".join(f"{t:g}" for t in tols)) + \
+        ("_" + "_".join(chosen) if chosen else "")
+    table(rows, out / f"viscoelastic_sphere_beyond_cost{tag}.csv",
+          f"Viscoelastic sphere (F = 1 N, mu 0) on stiff SLS films (E_1 = 3, 10 E_inf, tau 10 ms) "
+          f"against the elastic one (E_inf), CPU time ratio (fastest of 3 warm interleaved runs); "
+          f"load average {load0:.1f} -> {os.getloadavg()[0]:.1f}")
     return rows
 
 
@@ -780,8 +880,9 @@ def part_second(quick: bool, out, t0) -> list[dict]:
     return rows
 
 
-PARTS = ("speed", "sphere", "sphere_cost", "sphere_fitted", "reference", "claim", "figure",
-         "estimate", "images", "second", "edge_layer", "edge_range", "heavy_terms", "heavy_offset")
+PARTS = ("speed", "sphere", "sphere_cost", "sphere_fitted", "sphere_beyond_cost", "reference",
+         "claim", "figure", "estimate", "images", "second", "edge_layer", "edge_range",
+         "heavy_terms", "heavy_offset")
 
 
 def main(argv=None) -> int:
@@ -789,6 +890,12 @@ def main(argv=None) -> int:
         p.add_argument("--parts", default=",".join(PARTS),
                        help=f"comma list of {', '.join(PARTS)} (default all; figure needs the "
                             "speed and claim CSVs, made now or before)")
+        p.add_argument("--sphere-films", default="",
+                       help="sphere_fitted: a comma list of its films (SLS, two-term, E1=3Einf, "
+                            "E1=10Einf) to run alone (default all); sphere_beyond_cost: its films "
+                            "(E1=3Einf, E1=10Einf, or SLS)")
+        p.add_argument("--sphere-tols", default="",
+                       help="sphere_beyond_cost: comma list of tolerances (default 1e-2,5e-3,1e-3)")
 
     args, out = parse(argv, __doc__.splitlines()[0], "out/viscoelastic", extra=extra)
     parts = args.parts.split(",")
@@ -800,7 +907,13 @@ def main(argv=None) -> int:
     if "sphere_cost" in parts:
         part_sphere_cost(args.quick, out, t0)
     if "sphere_fitted" in parts:
-        part_sphere_fitted(args.quick, out, t0)
+        part_sphere_fitted(args.quick, out, t0,
+                           [f for f in args.sphere_films.split(",") if f] or None)
+    if "sphere_beyond_cost" in parts:
+        part_sphere_beyond_cost(args.quick, out, t0,
+                                tuple(float(t) for t in args.sphere_tols.split(",")) or None
+                                if args.sphere_tols else None,
+                                [f for f in args.sphere_films.split(",") if f] or None)
     if "reference" in parts:
         part_reference(args.quick, out, t0)
     if "claim" in parts:

@@ -12,7 +12,10 @@ wall times (each the fastest of 7 warm runs, the elastic and the viscoelastic so
 interleaved; 1 run past 5 s; the ratio on CPU time: ``_timed_pair``), FFT pairs, final grid
 points, the path taken (slow: ``solvers.visco_slow``, full: the viscoelastic resolution
 control), the ratios, and whether the (CPU) time ratio is <= 3.  Timings depend on the
-machine's load (printed in the meta title).
+machine's load (printed in the meta title).  ``--cold``: the compliance operators (symbols,
+preconditioners, summed tails) and the base-stress coefficients are forgotten before every
+timed run (``_forget_symbols``), as on every point of a sweep over V, whose periods differ
+(the FFT plans are kept); its tables end in ``_cold.csv``.
 """
 from __future__ import annotations
 
@@ -23,6 +26,8 @@ import time
 import numpy as np
 
 from spectral_contact import solve
+from spectral_contact.numerics.contact import compliance_operator
+from spectral_contact.physics.film import _BASE_COEFFICIENTS
 
 from ._common import parse, progress, table
 from .viscoelastic import FILM, SLS, load_for
@@ -31,18 +36,27 @@ TOLS = (1e-3, 1e-4)
 REPEATS = 7
 
 
-def _timed_pair(fe, fv, repeats: int = REPEATS):
+def _forget_symbols() -> None:
+    """Forget the line grids' compliance operators and base-stress coefficients (``--cold``)."""
+    compliance_operator.cache_clear()
+    _BASE_COEFFICIENTS.clear()
+
+
+def _timed_pair(fe, fv, repeats: int = REPEATS, prepare=None):
     """(elastic result, viscoelastic result, and per solve its CPU time and wall time): each
     the fastest of ``repeats`` warm runs, the two interleaved (e, v, e, v, ...) so that both
     see the same load.  The ratio is taken on the process's CPU time (one thread: the
     solve's own work), not the wall time: on the shared 2-core machine at load 3-4 a solve
     of 3-8 ms is preempted in most runs and a 2 ms one in fewer, which moved wall-time ratios
     past 3 at points whose CPU ratio is 1.5-2.5 (a median of 3 wall times before); a solve
-    past 5 s: its first run."""
+    past 5 s: its first run.  ``prepare()``, if given, runs before each timed solve, untimed
+    (``--cold``: ``_forget_symbols``)."""
     re, rv = fe(), fv()  # warm (plans, caches)
     cpu, wall = ([], []), ([], [])
     for _ in range(repeats):
         for k, fn in enumerate((fe, fv)):
+            if prepare is not None:
+                prepare()
             c, t = time.process_time(), time.perf_counter()
             fn()
             wall[k].append(time.perf_counter() - t)
@@ -65,9 +79,13 @@ def _tols(text: str) -> tuple:
 
 
 def main(argv=None) -> int:
-    args, out = parse(argv, __doc__.splitlines()[0], "out/viscoelastic", extra=lambda p: p.add_argument(
-        "--tol", default=",".join(f"{t:g}" for t in TOLS),
-        help="tolerances, comma-separated, each its own table (default 1e-3,1e-4)"))
+    def extra(p):
+        p.add_argument("--tol", default=",".join(f"{t:g}" for t in TOLS),
+                       help="tolerances, comma-separated, each its own table (default 1e-3,1e-4)")
+        p.add_argument("--cold", action="store_true",
+                       help="forget the grids' symbols before every timed solve (tables *_cold.csv)")
+
+    args, out = parse(argv, __doc__.splitlines()[0], "out/viscoelastic", extra=extra)
     for tol in _tols(args.tol):
         _run(args, out, tol)
     return 0
@@ -85,7 +103,8 @@ def _run(args, out, tol: float) -> None:
         for V in speeds:
             el, r, (c_el, c_v), (t_el, t_v) = _timed_pair(
                 lambda: solve(load=load, mu=mu, tol=tol, **FILM),
-                lambda: solve(load=load, mu=mu, speed=V, prony=SLS, tol=tol, **FILM))
+                lambda: solve(load=load, mu=mu, speed=V, prony=SLS, tol=tol, **FILM),
+                prepare=_forget_symbols if args.cold else None)
             ratio = c_v / c_el
             rows.append({
                 "scene": name, "speed_m_per_s": V, "V_tau_over_h": V * SLS[0][1] / FILM["thickness"],
@@ -98,12 +117,14 @@ def _run(args, out, tol: float) -> None:
                 "error_estimate": r.error_estimate, "met_3x": bool(ratio <= 3.0)})
             progress(len(rows), n, f"{name} V={V:.1e}: {ratio:.2f}x", t0)
     load1 = os.getloadavg()[0]
-    name = "viscoelastic_cost.csv" if tol == 1e-3 else f"viscoelastic_cost_tol{tol:.0e}.csv"
+    name = "viscoelastic_cost" if tol == 1e-3 else f"viscoelastic_cost_tol{tol:.0e}"
+    name += "_cold.csv" if args.cold else ".csv"
     table(rows, out / name,
           f"viscoelastic (SLS E_1 = E_inf, tau 10 ms) against elastic (E_inf) line solves, tol "
-          f"{tol:g}, one process; load average {load0:.1f} -> {load1:.1f}")
+          f"{tol:g}, one process{', symbols forgotten before each run' if args.cold else ''}; "
+          f"load average {load0:.1f} -> {load1:.1f}")
     met = sum(r["met_3x"] for r in rows)
-    print(f"tol {tol:g}: time ratio <= 3 in {met} of {len(rows)}; worst "
+    print(f"tol {tol:g}{' (cold)' if args.cold else ''}: time ratio <= 3 in {met} of {len(rows)}; worst "
           f"{max(r['time_ratio'] for r in rows):.2f}x", file=sys.stderr)
 
 

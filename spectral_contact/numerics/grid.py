@@ -19,12 +19,46 @@ from functools import cached_property
 
 import numpy as np
 
-__all__ = ["Grid", "pow2_at_least"]
+__all__ = ["Grid", "pow2_at_least", "periodic_interp", "periodic_interpolator"]
 
 
 def pow2_at_least(n: float, minimum: int = 1) -> int:
     """Smallest power of two >= n (and >= ``minimum``)."""
     return max(minimum, 1 << max(0, math.ceil(math.log2(max(n, 1.0)))))
+
+
+def periodic_interpolator(x, xp, period: float):
+    """A function fp -> ``np.interp(x, xp, fp, period=period)`` (real ``fp`` on the nodes
+    ``xp``), bit for bit: the same normalised, sorted and padded arrays passed to the same
+    interpolation.  For nodes that increase over less than one period (a periodic grid's) the
+    sort is the rotation of xp mod period at its one wrap instead of ``argsort`` (O(n log n):
+    ~0.1 ms at 8192 nodes, ~1-2 ms at 65536), and it and x mod period are done once for every
+    field interpolated at the same points.  Anything else (xp mod period not one rotation of
+    a strictly increasing sequence, fp not float64): ``np.interp`` itself."""
+    period = abs(period)
+    xp = np.asarray(xp, dtype=np.float64)
+    xm = xp % period
+    k = int(xm.argmin()) if xm.ndim == 1 and xm.size >= 2 else 0
+    xs = np.concatenate((xm[k:], xm[:k])) if k else xm
+    if xs.ndim != 1 or xs.size < 2 or not (xs[1:] > xs[:-1]).all():
+        return lambda fp: np.interp(x, xp, fp, period=period)
+    # (np.interp's own padding, then its interpolation without a period: left = right = None)
+    xpad = np.concatenate((xs[-1:] - period, xs, xs[0:1] + period))
+    xq = np.asarray(x, dtype=np.float64) % period
+
+    def interpolate(fp):
+        fp = np.asarray(fp)
+        if fp.dtype != np.float64 or fp.shape != xp.shape:
+            return np.interp(x, xp, fp, period=period)
+        fs = np.concatenate((fp[k:], fp[:k])) if k else fp
+        return np.interp(xq, xpad, np.concatenate((fs[-1:], fs, fs[0:1])))
+
+    return interpolate
+
+
+def periodic_interp(x, xp, fp, period: float) -> np.ndarray:
+    """``np.interp(x, xp, fp, period=period)``, bit for bit (``periodic_interpolator``)."""
+    return periodic_interpolator(x, xp, period)(fp)
 
 
 def _tuple(v, kind) -> tuple:

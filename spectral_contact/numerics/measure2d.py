@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .edges import fit_edges, peak
+from .edges import contact_runs, fit_edges, peak
 
 __all__ = ["measure_contact_2d"]
 
@@ -46,22 +46,62 @@ def _finite_gap(gap):
     return np.where(np.isfinite(gap), gap, 10.0 * abs(big) + 1.0)
 
 
-def _chords(coord, d, gap, p, active, trailing=None):
+_PRESSURE_NODES = 4  # contact nodes of a trailing edge's pressure-side fit (``_pressure_root``)
+
+
+def _pressure_root(p_in):
+    """Offset (cells, outward, in (-0.25, 1.5)) of an edge from its last contact node, from the
+    pressure side: p^2 on the last _PRESSURE_NODES contact nodes (``p_in[k]``: k nodes inward)
+    fitted by a least-squares parabola in the inward distance, its root nearest the contact
+    (the pressure closes as sqrt(eps) at a trailing edge on any film: ``edges.viscous_gap``);
+    None if it has none there."""
+    u = np.arange(len(p_in), dtype=float)
+    c2, c1, c0 = np.polyfit(u, np.square(p_in), 2)
+    if c2 == 0.0 and c1 == 0.0:
+        return None
+    roots = np.roots((c2, c1, c0)) if c2 != 0.0 else np.array([-c0 / c1])
+    inside = [float(z.real) for z in np.atleast_1d(roots)
+              if abs(z.imag) <= 1e-12 * max(1.0, abs(z.real)) and -1.5 < z.real < 0.25]
+    return -max(inside) if inside else None
+
+
+def _trailing_from_pressure(coord, d, p, active, runs, side):
+    """``runs`` (fit_edges' (left, right) per run) with each run's trailing edge (``side`` -1
+    the left one) from the pressure side (``_pressure_root``) where its last _PRESSURE_NODES
+    nodes are in contact and the fit has a root."""
+    n = coord.size
+    out = []
+    for (first, last), (left, right) in zip(contact_runs(active), runs):
+        node = first if side < 0 else last
+        inward = [(node - side * k) % n for k in range(_PRESSURE_NODES)]
+        if active[inward].all():
+            t = _pressure_root(p[inward])
+            if t is not None:
+                edge = coord[node] + side * t * d
+                left, right = (edge, right) if side < 0 else (left, edge)
+        out.append((left, right))
+    return out
+
+
+def _chords(coord, d, gap, p, active, trailing=None, from_pressure=False):
     """Per line (axis 1 of the arrays): total chord length, first and last edge (nan if the
-    line has no contact); ``trailing``: the lines' trailing edges' layer (``fit_edges``)."""
+    line has no contact); ``trailing``: the lines' trailing edges' layer (``fit_edges``), or
+    with ``from_pressure`` their pressure-side fit (``_trailing_from_pressure``)."""
     m = active.shape[1]
     length = np.zeros(m)
     lo = np.full(m, np.nan)
     hi = np.full(m, np.nan)
     for j in np.flatnonzero(active.any(axis=0)):
         runs = fit_edges(coord, d, gap[:, j], p[:, j], active[:, j], trailing)
+        if from_pressure and trailing is not None:
+            runs = _trailing_from_pressure(coord, d, p[:, j], active[:, j], runs, trailing[0])
         length[j] = sum(r - left for left, r in runs)
         lo[j] = min(left for left, _ in runs)
         hi[j] = max(r for _, r in runs)
     return length, lo, hi
 
 
-def _column_layer(x, y, dy, gap, p, active, length, bottom, top, trailing):
+def _column_layer(x, y, dy, gap, p, active, length, bottom, top, trailing, from_pressure=False):
     """The columns' trailing edges refitted with the inner layer (module docstring): a column
     with one run whose bottom (top) edge trails, i.e. its outward normal's x component has
     the sign of the trailing side, and whose boundary slope |dy/dx| (of the first fits) is
@@ -79,6 +119,8 @@ def _column_layer(x, y, dy, gap, p, active, length, bottom, top, trailing):
                 continue
             runs = fit_edges(y, dy, gap[i], p[i], active[i],
                              (sigma, [(c, ell * abs(s)) for c, ell in terms]))
+            if from_pressure:
+                runs = _trailing_from_pressure(y, dy, p[i], active[i], runs, sigma)
             if len(runs) == 1:
                 new = runs[0][0] if sigma < 0 else runs[0][1]
                 length[i] += sigma * (new - e[i])
@@ -146,7 +188,7 @@ def _peak_odd_even(x, p, i):
     return float(a - b * b / (4 * c)), float(x[i] - b / (2 * c) * (x[1] - x[0]))
 
 
-def measure_contact_2d(grid, pressure, gap, active, trailing=None) -> dict:
+def measure_contact_2d(grid, pressure, gap, active, trailing=None, from_pressure=False) -> dict:
     """Contact measures of a 2D solution: ``area``, ``x_min``, ``x_max``, ``y_min``,
     ``y_max`` (envelope of the fitted edges), ``pmax`` and its position (``xmax``, ``ymax``),
     the pressure centroid ``xc`` (= Int x p / Int p), ``load`` (= Int p) and ``line_load_y0``
@@ -160,10 +202,11 @@ def measure_contact_2d(grid, pressure, gap, active, trailing=None) -> dict:
         return {"area": 0.0, "x_min": 0.0, "x_max": 0.0, "y_min": 0.0, "y_max": 0.0, "pmax": 0.0,
                 "xmax": 0.0, "ymax": 0.0, "xc": 0.0, "load": 0.0, "line_load_y0": 0.0}
     # rows: lines along x at each y; columns: lines along y at each x
-    len_x, left, right = _chords(x, dx, gap, pressure, active, trailing)
+    len_x, left, right = _chords(x, dx, gap, pressure, active, trailing, from_pressure)
     len_y, bottom, top = _chords(y, dy, gap.T, pressure.T, active.T)
     if trailing is not None:
-        _column_layer(x, y, dy, gap, pressure, active, len_y, bottom, top, trailing)
+        _column_layer(x, y, dy, gap, pressure, active, len_y, bottom, top, trailing,
+                      from_pressure)
     area = 0.5 * (len_x.sum() * dy + len_y.sum() * dx)
     single = np.allclose(len_x[np.isfinite(left)], (right - left)[np.isfinite(left)]) and \
         np.allclose(len_y[np.isfinite(bottom)], (top - bottom)[np.isfinite(bottom)])

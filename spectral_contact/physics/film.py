@@ -40,6 +40,7 @@ import numpy as np
 from .options import option
 from .transfer import (
     F2,
+    compliance_functions,
     compressible_decay_rate,
     compressible_tangential_function,
     compressible_transfer_functions,
@@ -198,8 +199,12 @@ class Film:
         return []
 
     def _F0_F1(self, kmag):
-        """F0, F1 at K = |k| h (the incompressible ones at nu = 1/2, bit for bit)."""
-        F0, F1, *_ = self.transfer(kmag * self.thickness)
+        """F0, F1 at K = |k| h (the incompressible ones at nu = 1/2, bit for bit; a kind whose
+        ``transfer`` is this class's and incompressible: without A, B, C, the same F0, F1)."""
+        K = kmag * self.thickness
+        if self.incompressible and type(self).transfer is Film.transfer:
+            return compliance_functions(K)
+        F0, F1, *_ = self.transfer(K)
         return F0, F1
 
     def surface_compliance(self, direction, kmag, mu: float = 0.0, slide=(1.0, 0.0)):

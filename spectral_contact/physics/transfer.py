@@ -19,7 +19,7 @@ from functools import lru_cache
 
 import numpy as np
 
-__all__ = ["transfer_functions", "F0", "F0_minus_1", "F2", "tanh_over",
+__all__ = ["transfer_functions", "compliance_functions", "F0", "F0_minus_1", "F2", "tanh_over",
            "compressible_transfer_functions", "compressible_decay_rate",
            "compressible_tangential_function"]
 
@@ -72,6 +72,14 @@ def transfer_functions(k):
     B_ = 2.0 * k * e1 * (1.0 + e2) / Dp
     C_ = 2.0 * e1 * ((1.0 - k) + (1.0 + k) * e2) / Dp
     return F0_, F1_, A_, B_, C_
+
+
+def compliance_functions(k):
+    """(F0, F1) of ``transfer_functions``, the same operations without the base transfers A,
+    B, C (the surface compliance needs only these: a symbol on a grid, or at one |k| for each
+    preconditioner's cut-off)."""
+    k, e2, Dp = _scaled(k)
+    return _F0_scaled_numerator(k, e2) / Dp, 4.0 * k * k * e2 / Dp
 
 
 def F0(k):

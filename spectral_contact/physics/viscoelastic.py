@@ -617,6 +617,8 @@ def _tail_symbol(c: float, h: float, y: float, mu: float):
         tt = np.maximum(t, 1e-300)
         g0 = np.where(t > 1e-4, (np.sin(2.0 * tt) - 2.0 * tt) / (2.0 * tt * D), -t * t / (3.0 * D))
         out[im] = g0 + mu * y / D
+        if im.all():  # (every line's: k_y = 0; the real branch below would assign nothing)
+            return c * h * out
         K = np.sqrt(K2[~im])
         F0, F1, *_ = transfer_functions(K)
         Ks = np.maximum(K, 1e-300)

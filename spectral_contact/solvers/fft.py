@@ -47,7 +47,7 @@ from ..numerics.blas_threads import single_blas_thread
 from ..numerics.contact import refine_nested
 from ..numerics.edges import fit_edges, peak, peak_odd_even
 from ..numerics.fft import get_rfft
-from ..numerics.grid import Grid, pow2_at_least
+from ..numerics.grid import Grid, periodic_interp, pow2_at_least
 from ..numerics.interface import solve_exponential_contact
 from ..physics.scene import Scene, check_positive
 from ..result import ContactResult
@@ -663,7 +663,7 @@ class _LineSolve:
             # images' change, not from the whole gap: 12 against 16 FFT pairs on 2N points at
             # a_H/h 1, 0.1 m/s, tol 1e-4; tests/test_line_pairs.py)
             far = prob.count(self.contact(
-                g2, p_init=np.interp(g2.x, fine.grid.x, fine.sol.pressure, period=L)
+                g2, p_init=periodic_interp(g2.x, fine.grid.x, fine.sol.pressure, L)
                 * (np.abs(g2.x - center) < 0.5 * L), d_init=fine.sol.indentations))
             domain_diff = _difference(_measure(far, prob.visco, prob.trailing, self.lattice), fine.q0)
             lv.image_error = max(lv.image_error, domain_diff)
@@ -706,7 +706,7 @@ class _LineSolve:
             # of four friction scenes at 1e-3 - 10 m/s, d_el the same to 8 digits)
             el = prob.count(prob.solve_contact(
                 g, self.indenter, relaxed,
-                np.interp(g.x, fine.x, lv.cur.sol.pressure, period=L), False, extrapolate=True))
+                periodic_interp(g.x, fine.x, lv.cur.sol.pressure, L), False, extrapolate=True))
         except ConvergenceError:
             return False  # (measured instead)
         ratio = max(1.0, float(el.indentations[0]) * (1.0 + _D_EL_MARGIN) / d)
@@ -729,7 +729,7 @@ class _LineSolve:
             sol, q = located
 
             def located_p(x, s0=sol):  # (np.interp is elementwise: only where it is kept)
-                return np.interp(x, s0.grid.x, s0.pressure, period=s0.grid.length)
+                return periodic_interp(x, s0.grid.x, s0.pressure, s0.grid.length)
             return (_first_set(g, q["edges"], located_p) if adaptive and not self.exponential
                     and q["edges"] else located_p(g.x))
         refined = refine_nested(prev.sol.pressure)

@@ -61,7 +61,7 @@ VISCO_EDGE_SHARE = 0.25  # an unresolved term moves x_c and a by up to ~0.6 E_i/
 # edges with their inner layer (``numerics.edges.viscous_gap``; ``unfitted_edge_scales``), which
 # leaves a, x_c within ~5e-5 of a resolved solve with one cell across V tau (a_H/h 1, V tau/h
 # 5e-3; 4.5e-4 with the elastic fit) and lets the levels' differences see the rest.
-# Surfaces likewise where ``fft3d.edges_fitted`` (r = E_inf/E_0 >= 1/2, tol >= 1e-3: verified).
+# Surfaces likewise where ``fft3d.edges_fitted`` (r = E_inf/E_0 >= 1/11, tol >= 1e-3: verified).
 STAGNATION_DOUBLINGS = 3
 
 

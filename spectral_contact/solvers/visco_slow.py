@@ -24,6 +24,7 @@ import time
 
 import numpy as np
 
+from ..numerics.grid import periodic_interpolator
 from ..result import ContactResult
 
 __all__ = ["slow_sliding", "edge_amplitudes"]
@@ -109,9 +110,9 @@ def slow_sliding(scene, film, model: str, tol: float, solve_elastic):
     _log.info("viscoelastic line, slow sliding: the relaxed elastic solve with the first-order "
               "correction (shift %.3g h, remainder %.1e)", delta, rem)
     x, L = el.x, el.domain_length
-
-    def shifted(f):  # f(x - delta - x2) on the same periodic grid (linear: sums kept exactly)
-        return np.interp(x - delta - x2, x, f, period=L)
+    # f(x - delta - x2) on the same periodic grid (linear: sums kept exactly): np.interp's
+    # periodic interpolation, its sort and normalisation done once for the fields
+    shifted = periodic_interpolator(x - delta - x2, x, L)
 
     P_el = float(np.sum(el.pressure))
     if (scene.mu == 0.0 or model == "goodman") and scene.height is None:
