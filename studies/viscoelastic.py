@@ -63,7 +63,16 @@ edge_range the layer fit's range (``_LineSolve.LAYER_FITTED_WEIGHT``): films 4 a
            when glassy (E_1 = 3, 10 E_inf; their edge structure resolved) and a two-term series
            (E_inf at 1 ms and 0.1 s: fitted), on a_H/h 1 (mu 0), the paper's scene (mu 2) and
            a_H/h 0.3 (mu 0.5), 1e-4 ... 3.2e-2 m/s, tol 1e-4 and 1e-3: the estimate against the
-           true error (2^20 points over twice the period).
+           true error (2^20 points over twice the period).  Since the seventh session
+           every film here is fitted (LAYER_FITTED_WEIGHT = 10).
+heavy_terms  seventh session: Prony terms up to E_i/E_inf = 10 left to the edge fits (the
+           trailing edge's layer fit, the odd-even peak): E_1 = 3, 10 E_inf and three terms
+           (3 E_inf at 1 ms, 10 ms, 0.1 s) on a_H/h 0.1, 3 (mu 0), a_H/h 1 (mu 0.5) and the
+           paper's scene (mu 2), 1e-5 ... 1 m/s, tol 1e-4 and 1e-3: the estimate against the
+           true error (2^20 points over twice the period) and the measure carrying it.
+heavy_offset  seventh session: fixed grids (2048 ... 16384 points) against 2^19 points, E_1 =
+           1, 3, 10 E_inf, a_H/h 0.3 and the paper's scene, 2.5e-5 ... 2e-4 m/s: the edges'
+           offsets over the term's shift while V tau is below a cell (``LAYER_OFFSET``).
 figure     viscoelastic.png: mu_def and a against V; the claim's changes; the base stresses
            and their MEMS view at one speed.
 """
@@ -501,6 +510,110 @@ def part_edge_range(quick: bool, out, t0) -> list[dict]:
     return rows
 
 
+HEAVY_FILMS = {"E1=3Einf": ((3 * E_INF, TAU),), "E1=10Einf": ((10 * E_INF, TAU),),
+               "three terms": ((3 * E_INF, 1e-3), (3 * E_INF, TAU), (3 * E_INF, 0.1))}
+
+
+def part_heavy_terms(quick: bool, out, t0) -> list[dict]:
+    """Seventh session: Prony terms up to E_i/E_inf = 10 left to the edge fits (the layer fit
+    of the trailing edge, the odd-even peak): the automatic solve's estimate against its error
+    (2^20 points over twice its period; 2^18 with --quick), and which measure carries it."""
+    scenes = [("aH/h=0.1", load_for(0.1), 0.0), ("aH/h=3", load_for(3.0), 0.0),
+              ("aH/h=1 mu0.5", load_for(1.0), 0.5), ("paper", 200.0, 2.0)]
+    speeds = (1e-4,) if quick else (1e-5, 1e-4, 1e-3, 1e-2, 0.1, 1.0)
+    tols = (1e-3,) if quick else (1e-4, 1e-3)
+    films = dict(list(HEAVY_FILMS.items())[1:2]) if quick else HEAVY_FILMS
+    if quick:
+        scenes = scenes[3:]
+    names = ("a", "x_c", "d", "p_max", "centroid")
+    rows = []
+    n = len(films) * len(scenes) * len(speeds) * len(tols)
+    for tol in tols:
+        for fname, prony in films.items():
+            for name, load, mu in scenes:
+                for V in speeds:
+                    kw = dict(load=load, mu=mu, speed=V, prony=prony, tol=tol, **FILM)
+                    row = {"tol": tol, "film": fname, "scene": name, "speed_m_per_s": V,
+                           "path": "", "edge_structure_resolved": False, "grid_points": 0,
+                           "error_estimate": math.nan, "true_error": math.nan, "carrier": "",
+                           "bounded": False, "failed": ""}
+                    try:
+                        r = solve(**kw)
+                        ref = solve(**kw, grid_points=2**18 if quick else 2**20,
+                                    domain_length=2 * r.domain_length * FILM["thickness"])
+                    except (ConvergenceError, InputError) as exc:  # a row, not a stop
+                        row["failed"] = f"{type(exc).__name__}: {exc}"[:120]
+                        rows.append(row)
+                        progress(len(rows), n, f"{fname} {name} V={V:.1e}: {row['failed'][:40]}", t0)
+                        continue
+                    errs = _line_changes(r, ref)
+                    err = max(errs)
+                    row.update({
+                        "path": "slow" if "slow_sliding" in r.info else "full",
+                        "edge_structure_resolved": bool(r.info.get("edge_structure_resolved")),
+                        "grid_points": r.grid_points, "error_estimate": r.error_estimate,
+                        "true_error": err, "carrier": names[errs.index(err)],
+                        "bounded": bool(err <= r.error_estimate)})
+                    rows.append(row)
+                    progress(len(rows), n, f"tol {tol:g} {fname} {name} V={V:.1e}: est "
+                             f"{r.error_estimate:.1e} true {err:.1e} ({row['carrier']}), N "
+                             f"{r.grid_points}", t0)
+    table(rows, out / "viscoelastic_heavy_terms.csv",
+          "Prony terms up to E_i/E_inf = 10 left to the edge fits: estimate against the true "
+          "error (2^20 points over twice the period)")
+    return rows
+
+
+def part_heavy_offset(quick: bool, out, t0) -> list[dict]:
+    """Seventh session: what a fixed grid leaves when |V| tau is below a cell (the measures of
+    ``_LineSolve.LAYER_OFFSET``): single terms E_1 = 1, 3, 10 E_inf on a_H/h 0.3 (mu 0) and the
+    paper's scene (mu 2) at 2.5e-5 ... 2e-4 m/s, on 2048 ... 16384 points over the elastic
+    solve's period, against 2^19 points on that period: the edges' offsets over the term's
+    shift delta = (E_1/E_inf) V tau, against |V| tau/dx and the retardation length l/dx, the
+    bound LAYER_OFFSET min(1, dx/l) of their sum (a and x_c move by half of it each, relative
+    to a: ``_LineSolve.layer_bias``), and p_max."""
+    from spectral_contact.solvers.fft import _LineSolve
+    films = (10.0,) if quick else (1.0, 3.0, 10.0)
+    scenes = [("paper", 200.0, 2.0)] + ([] if quick else [("aH/h=0.3", load_for(0.3), 0.0)])
+    speeds = (1e-4,) if quick else (2.5e-5, 5e-5, 1e-4, 2e-4)
+    grids = (2048, 4096) if quick else (2048, 4096, 8192, 16384)
+    h = FILM["thickness"]
+    rows = []
+    n = len(films) * len(scenes) * len(speeds)
+    for name, load, mu in scenes:
+        el = solve(load=load, mu=mu, tol=1e-4, **FILM)
+        L = el.domain_length * h
+        for w in films:
+            for V in speeds:
+                kw = dict(load=load, mu=mu, speed=V, prony=((w * E_INF, TAU),), **FILM)
+                ref = solve(**kw, grid_points=2**17 if quick else 2**19, domain_length=L)
+                lam, a = V * TAU / h, ref.half_width
+                delta = w * lam
+                trail0, lead0 = ref.center - a, ref.center + a
+                for N in grids:
+                    r = solve(**kw, grid_points=N, domain_length=L)
+                    dx = el.domain_length / N
+                    lr = (1.0 + w) * lam
+                    rows.append({
+                        "scene": name, "w": w, "speed_m_per_s": V, "V_tau_over_dx": lam / dx,
+                        "l_over_dx": lr / dx, "delta_over_a": delta / a, "grid_points": N,
+                        "trailing_offset_over_delta": (r.center - r.half_width - trail0) / delta,
+                        "leading_offset_over_delta": (r.center + r.half_width - lead0) / delta,
+                        "offsets_sum_over_delta": (abs(r.center - r.half_width - trail0)
+                                                   + abs(r.center + r.half_width - lead0))
+                        / delta,
+                        "bound_over_delta": _LineSolve.LAYER_OFFSET * min(1.0, dx / lr)
+                        if lam < _LineSolve.LAYER_CELLS * dx else 0.0,
+                        "a_error": abs(r.half_width - a) / a,
+                        "center_error": abs(r.center - ref.center) / a,
+                        "pmax_error": abs(r.max_pressure - ref.max_pressure) / ref.max_pressure})
+                progress(len(rows) // len(grids), n, f"{name} w={w:g} V={V:.1e}", t0)
+    table(rows, out / "viscoelastic_heavy_offset.csv",
+          "fixed grids against 2^19 points on the elastic period: the edges' offsets over the "
+          "term's shift delta while V tau is below a cell (trailing positive = inward)")
+    return rows
+
+
 TWO_TERMS = ((E_INF, 1e-3), (E_INF, 0.1))  # a short and a long tail together (tau_r 5.2 ms, 0.39 s)
 STIFF = ((10.0 * E_INF, TAU),)  # E_0 = 11 E_inf: tau_r = 0.11 s
 
@@ -508,11 +621,16 @@ STIFF = ((10.0 * E_INF, TAU),)  # E_0 = 11 E_inf: tau_r = 0.11 s
 def _line_change(r, ref) -> float:
     """Largest relative change of a, x_c, d, p_max and the pressure centroid from ``ref`` to
     ``r`` (lengths over ref's half-width, d and p_max over themselves): the estimate's."""
+    return max(_line_changes(r, ref))
+
+
+def _line_changes(r, ref) -> list:
+    """The relative changes of ``_line_change``, [a, x_c, d, p_max, centroid]."""
     a = ref.half_width
-    return max(abs(r.half_width - a) / a, abs(r.center - ref.center) / a,
-               abs(r.indentation - ref.indentation) / ref.indentation,
-               abs(r.max_pressure - ref.max_pressure) / ref.max_pressure,
-               abs(r.info["pressure_centroid"] - ref.info["pressure_centroid"]) / a)
+    return [abs(r.half_width - a) / a, abs(r.center - ref.center) / a,
+            abs(r.indentation - ref.indentation) / ref.indentation,
+            abs(r.max_pressure - ref.max_pressure) / ref.max_pressure,
+            abs(r.info["pressure_centroid"] - ref.info["pressure_centroid"]) / a]
 
 
 def part_images(quick: bool, out, t0) -> list[dict]:
@@ -767,8 +885,9 @@ def part_second(quick: bool, out, t0) -> list[dict]:
     return rows
 
 
-PARTS = ("speed", "sphere", "sphere_cost", "sphere_fitted", "sphere_beyond_cost", "reference", "claim", "figure",
-         "estimate", "images", "second", "edge_layer", "edge_range")
+PARTS = ("speed", "sphere", "sphere_cost", "sphere_fitted", "sphere_beyond_cost", "reference",
+         "claim", "figure", "estimate", "images", "second", "edge_layer", "edge_range",
+         "heavy_terms", "heavy_offset")
 
 
 def _forces(text: str) -> tuple:
@@ -835,6 +954,10 @@ def main(argv=None) -> int:
         part_edge_layer(args.quick, out, t0)
     if "edge_range" in parts:
         part_edge_range(args.quick, out, t0)
+    if "heavy_terms" in parts:
+        part_heavy_terms(args.quick, out, t0)
+    if "heavy_offset" in parts:
+        part_heavy_offset(args.quick, out, t0)
     return 0
 
 

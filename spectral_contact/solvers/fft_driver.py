@@ -57,7 +57,7 @@ VISCO_EDGE_SHARE = 0.25  # an unresolved term moves x_c and a by up to ~0.6 E_i/
 # to 131072 points, with the elastic edge fit); terms above this share of tol are resolved
 # from the first level on (the levels' sizes), the others' weight x width / size is added to
 # the error estimate (``unresolved_edges``).  Lines no longer do either for terms up to
-# E_i/E_inf = 1 (``_LineSolve.LAYER_FITTED_WEIGHT``): they fit the trailing
+# E_i/E_inf = 10 (``_LineSolve.LAYER_FITTED_WEIGHT``): they fit the trailing
 # edges with their inner layer (``numerics.edges.viscous_gap``; ``unfitted_edge_scales``), which
 # leaves a, x_c within ~5e-5 of a resolved solve with one cell across V tau (a_H/h 1, V tau/h
 # 5e-3; 4.5e-4 with the elastic fit) and lets the levels' differences see the rest.
