@@ -84,9 +84,10 @@ def _trailing_from_pressure(coord, d, p, active, runs, side):
 
 
 def _uncrossed(runs, active, d):
-    """``fit_edges``' (left, right) per run with crossed fits undone.  A run of one node can
-    have its right edge fitted left of its left one (each fit's offset lies in (-0.25, 1.5)
-    cells), which ``fit_edges`` takes for a run that wraps the period and moves by the period
+    """``fit_edges``' (left, right) per run with crossed fits undone.  A run of one node (two,
+    with a trailing fit) can have its right edge fitted left of its left one (the elastic
+    fits' offsets lie in (-0.25, 1.5) cells, the trailing fit's in (-1, 1.5): ``edges``),
+    which ``fit_edges`` takes for a run that wraps the period and moves by the period
     (measured: a sphere's locator column at its tip, one contact node, its edges 0.014 h
     inside it on both sides: y_max = 22.2 h on a 22.2 h period, and the period along y
     doubled).  Whether a run wraps is decided here by its nodes (``contact_runs``: last <
