@@ -11,7 +11,9 @@ Scenes: the paper's (P_L = 200 N/m, mu = 2) and frictionless lines of Hertz half
 wall times (each the fastest of 7 warm runs, the elastic and the viscoelastic solve
 interleaved; 1 run past 5 s; the ratio on CPU time: ``_timed_pair``), FFT pairs, final grid
 points, the path taken (slow: ``solvers.visco_slow``, full: the viscoelastic resolution
-control), the ratios, and whether the (CPU) time ratio is <= 3.  Timings depend on the
+control), the ratios, and whether the (CPU) time ratio is <= 3; beside it, the CPU time and grid
+ratios to the glassy film's elastic solve (E_0 = E_inf + E_1, timed in its own interleaved
+pair): the contact a fast slide has, smaller than the relaxed one.  Timings depend on the
 machine's load (printed in the meta title).  ``--cold``: the compliance operators (symbols,
 preconditioners, summed tails) and the base-stress coefficients are forgotten before every
 timed run (``_forget_symbols``), as on every point of a sweep over V, whose periods differ
@@ -106,6 +108,14 @@ def _run(args, out, tol: float) -> None:
                 lambda: solve(load=load, mu=mu, speed=V, prony=SLS, tol=tol, **FILM),
                 prepare=_forget_symbols if args.cold else None)
             ratio = c_v / c_el
+            # the glassy film's elastic solve (E_0 = E_inf + sum E_i): at high speed the
+            # viscoelastic contact is that one's, smaller than the relaxed one (a column
+            # beside the ratio, not a replacement: the issue compares with the relaxed film)
+            glassy = dict(FILM, young=FILM["young"] + sum(e for e, _ in SLS))
+            eg, _, (c_g, c_v2), _ = _timed_pair(
+                lambda: solve(load=load, mu=mu, tol=tol, **glassy),
+                lambda: solve(load=load, mu=mu, speed=V, prony=SLS, tol=tol, **FILM),
+                prepare=_forget_symbols if args.cold else None)
             rows.append({
                 "scene": name, "speed_m_per_s": V, "V_tau_over_h": V * SLS[0][1] / FILM["thickness"],
                 "path": "slow" if "slow_sliding" in r.info else "full",
@@ -114,7 +124,9 @@ def _run(args, out, tol: float) -> None:
                 "fft_pairs_ratio": r.counters["transforms"] / el.counters["transforms"],
                 "grid_points_ratio": r.grid_points / el.grid_points,
                 "period_ratio": r.domain_length / el.domain_length,
-                "error_estimate": r.error_estimate, "met_3x": bool(ratio <= 3.0)})
+                "error_estimate": r.error_estimate, "met_3x": bool(ratio <= 3.0),
+                "time_ratio_to_glassy": c_v2 / c_g,
+                "grid_points_ratio_to_glassy": r.grid_points / eg.grid_points})
             progress(len(rows), n, f"{name} V={V:.1e}: {ratio:.2f}x", t0)
     load1 = os.getloadavg()[0]
     name = "viscoelastic_cost" if tol == 1e-3 else f"viscoelastic_cost_tol{tol:.0e}"
@@ -125,7 +137,9 @@ def _run(args, out, tol: float) -> None:
           f"load average {load0:.1f} -> {load1:.1f}")
     met = sum(r["met_3x"] for r in rows)
     print(f"tol {tol:g}{' (cold)' if args.cold else ''}: time ratio <= 3 in {met} of {len(rows)}; worst "
-          f"{max(r['time_ratio'] for r in rows):.2f}x", file=sys.stderr)
+          f"{max(r['time_ratio'] for r in rows):.2f}x; against the glassy film's elastic solve "
+          f"(E_0): <= 3 in {sum(r['time_ratio_to_glassy'] <= 3.0 for r in rows)}, worst "
+          f"{max(r['time_ratio_to_glassy'] for r in rows):.2f}x", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -57,9 +57,9 @@ def contact_runs(active: np.ndarray):
     return runs
 
 
-def _quadratic_fit_root(y0, y1, y2, y3):
-    """Roots of the least-squares parabola through (2, y0), (3, y1), (4, y2), (5, y3) that lie in
-    (-0.25, 1.5), the one nearest 0.5 (None if there is none).
+def _parabola_roots(y0, y1, y2, y3) -> tuple:
+    """Roots s (in nodes) of the least-squares parabola through (2, y0), (3, y1), (4, y2),
+    (5, y3): () if none.
 
     Closed form of ``np.roots(np.polyfit(s, y, 2))``: in t = s - 3.5 the nodes are symmetric
     (+-0.5, +-1.5) and 1, t, t^2 - 5/4 are orthogonal on them, so the fit is
@@ -74,12 +74,17 @@ def _quadratic_fit_root(y0, y1, y2, y3):
     else:
         disc = beta * beta - 4.0 * gamma * c
         if disc < 0.0:
-            return None
+            return ()
         q = -0.5 * (beta + math.copysign(math.sqrt(disc), beta))
         roots = (q / gamma, c / q) if q != 0.0 else (0.0,)
+    return tuple(t + 3.5 for t in roots)
+
+
+def _quadratic_fit_root(y0, y1, y2, y3):
+    """The root of ``_parabola_roots`` that lies in (-0.25, 1.5), the one nearest 0.5 (None if
+    there is none)."""
     best = None
-    for t in roots:
-        s = t + 3.5
+    for s in _parabola_roots(y0, y1, y2, y3):
         if -0.25 < s < 1.5 and (best is None or abs(s - 0.5) < abs(best - 0.5)):
             best = s
     return best
@@ -263,22 +268,9 @@ def _layer_map(g, t, dx, terms):
 
 
 def _parabola_root(y0, y1, y2, y3):
-    """``_quadratic_fit_root``'s parabola's root nearest 0.5, anywhere (None if none)."""
-    alpha = 0.25 * (y0 + y1 + y2 + y3)
-    beta = (-1.5 * y0 - 0.5 * y1 + 0.5 * y2 + 1.5 * y3) / 5.0
-    gamma = 0.25 * (y0 - y1 - y2 + y3)
-    c = alpha - 1.25 * gamma
-    if gamma == 0.0:
-        if beta == 0.0:
-            return None
-        roots = (-c / beta,)
-    else:
-        disc = beta * beta - 4.0 * gamma * c
-        if disc < 0.0:
-            return None
-        q = -0.5 * (beta + math.copysign(math.sqrt(disc), beta))
-        roots = (q / gamma, c / q) if q != 0.0 else (0.0,)
-    return min((r + 3.5 for r in roots), key=lambda s: abs(s - 0.5))
+    """``_parabola_roots``' root nearest 0.5, anywhere (None if none)."""
+    roots = _parabola_roots(y0, y1, y2, y3)
+    return min(roots, key=lambda s: abs(s - 0.5)) if roots else None
 
 
 def _lattice_fit(gap_out):
