@@ -149,3 +149,29 @@ def test_line_solver_with_the_lattice_correction_settles_x_c_from_grid_to_grid(m
     monkeypatch.setattr(fft_solver, "LATTICE_CORRECTION", True)
     after = spread()
     assert before > 3e-5 and after < 1e-5
+
+
+def test_one_node_run_with_crossed_fits_is_not_moved_by_the_period():
+    """A run of one contact node whose two edge fits both lie inside it (offsets -0.2 cells:
+    right < left) is a run of width 0 at the node, not a run that wraps the period (which
+    fit_edges used to make of it by adding the period: a sphere's locator column at its tip
+    doubled the period along y).  A run that does wrap still gets the period added."""
+    from spectral_contact.numerics.edges import fit_edges
+
+    n, dx = 64, 0.1
+    x = np.arange(n) * dx
+    i0 = 30
+    gap = ((np.abs(np.arange(n) - i0) + 0.2) * dx) ** 1.5
+    active = np.zeros(n, bool)
+    active[i0] = True
+    gap[i0] = 0.0
+    p = np.where(active, 1.0, 0.0)
+    (left, right), = fit_edges(x, dx, gap, p, active)
+    assert left == pytest.approx(x[i0]) and right == pytest.approx(x[i0])
+    # a run through the period's end: the right edge beyond x[-1] + the period's start
+    act = np.zeros(n, bool)
+    act[[n - 2, n - 1, 0, 1]] = True
+    d = np.minimum(np.abs(np.arange(n) - (n - 0.5)), np.abs(np.arange(n) + 0.5)) - 2.0
+    g2 = np.where(act, 0.0, (np.maximum(d, 0.0) * dx) ** 1.5)
+    (l2, r2), = fit_edges(x, dx, g2, np.where(act, 1.0, 0.0), act)
+    assert l2 < x[n - 2] and r2 > n * dx + x[1]

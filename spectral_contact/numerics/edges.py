@@ -320,8 +320,16 @@ def fit_edges(x, dx, gap, pressure, active, trailing=None, lattice=False):
                 t = _edge(x[node], dx, g, p_in, free)
             edges.append(x[node] + side * t * dx)
         right, left = edges
-        if right < left:  # a run that wraps the period
+        if last < first:  # a run that wraps the period (decided by its nodes, not its fits)
             right += n * dx
+        elif right < left:
+            # a run of one node (two, with a trailing fit) whose fits cross (the elastic fits'
+            # offsets lie in (-0.25, 1.5) cells, the trailing fit's in (-1, 1.5)): they meet at
+            # their midpoint, a run of width 0.  (Read as a wrapping run before, it was moved
+            # by the period: a sphere's locator column at its tip, one contact node, its edges
+            # 0.014 h inside it on both sides, had y_max = 22.2 h on a 22.2 h period, and the
+            # period along y doubled.)
+            left = right = 0.5 * (left + right)
         out.append((left, right))
     return out
 

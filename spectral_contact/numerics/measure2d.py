@@ -83,26 +83,6 @@ def _trailing_from_pressure(coord, d, p, active, runs, side):
     return out
 
 
-def _uncrossed(runs, active, d):
-    """``fit_edges``' (left, right) per run with crossed fits undone.  A run of one node (two,
-    with a trailing fit) can have its right edge fitted left of its left one (the elastic
-    fits' offsets lie in (-0.25, 1.5) cells, the trailing fit's in (-1, 1.5): ``edges``),
-    which ``fit_edges`` takes for a run that wraps the period and moves by the period
-    (measured: a sphere's locator column at its tip, one contact node, its edges 0.014 h
-    inside it on both sides: y_max = 22.2 h on a 22.2 h period, and the period along y
-    doubled).  Whether a run wraps is decided here by its nodes (``contact_runs``: last <
-    first): a run that does not wrap but whose edges lie more than its nodes' span plus 4 cells
-    apart was moved back; crossed edges meet at their midpoint (a chord of length 0)."""
-    out = []
-    for (first, last), (left, right) in zip(contact_runs(active), runs):
-        if last >= first and right - left > (last - first + 4) * d:
-            right -= active.size * d
-        if right < left:
-            left = right = 0.5 * (left + right)
-        out.append((left, right))
-    return out
-
-
 def _chords(coord, d, gap, p, active, trailing=None, from_pressure=False):
     """Per line (axis 1 of the arrays): total chord length, first and last edge (nan if the
     line has no contact); ``trailing``: the lines' trailing edges' layer (``fit_edges``), or
@@ -112,8 +92,7 @@ def _chords(coord, d, gap, p, active, trailing=None, from_pressure=False):
     lo = np.full(m, np.nan)
     hi = np.full(m, np.nan)
     for j in np.flatnonzero(active.any(axis=0)):
-        runs = _uncrossed(fit_edges(coord, d, gap[:, j], p[:, j], active[:, j], trailing),
-                          active[:, j], d)
+        runs = fit_edges(coord, d, gap[:, j], p[:, j], active[:, j], trailing)
         if from_pressure and trailing is not None:
             runs = _trailing_from_pressure(coord, d, p[:, j], active[:, j], runs, trailing[0])
         length[j] = sum(r - left for left, r in runs)
@@ -138,9 +117,8 @@ def _column_layer(x, y, dy, gap, p, active, length, bottom, top, trailing, from_
             # outward normal ~ (-sigma s, sigma): trailing when -sigma s has side_x's sign
             if not (0.0 < -sigma * s * side_x and abs(s) <= 1.0):
                 continue
-            runs = _uncrossed(fit_edges(y, dy, gap[i], p[i], active[i],
-                                        (sigma, [(c, ell * abs(s)) for c, ell in terms])),
-                              active[i], dy)
+            runs = fit_edges(y, dy, gap[i], p[i], active[i],
+                             (sigma, [(c, ell * abs(s)) for c, ell in terms]))
             if from_pressure:
                 runs = _trailing_from_pressure(y, dy, p[i], active[i], runs, sigma)
             if len(runs) == 1:
