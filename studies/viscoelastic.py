@@ -486,12 +486,8 @@ def part_edge_range(quick: bool, out, t0) -> list[dict]:
                            "path": "", "edge_structure_resolved": False, "grid_points": 0,
                            "error_estimate": math.nan, "true_error": math.nan, "bounded": False,
                            "failed": ""}
-                    try:
-                        r = solve(**kw)
-                        ref = solve(**kw, grid_points=2**18 if quick else 2**20,
-                                    domain_length=2 * r.domain_length * FILM["thickness"])
-                    except (ConvergenceError, InputError) as exc:  # a row, not a stop
-                        row["failed"] = f"{type(exc).__name__}: {exc}"[:120]
+                    r, ref = _against_reference(kw, quick, row)
+                    if r is None:  # a row, not a stop
                         rows.append(row)
                         progress(len(rows), n, f"{fname} {name} V={V:.1e}: {row['failed'][:40]}", t0)
                         continue
@@ -512,6 +508,18 @@ def part_edge_range(quick: bool, out, t0) -> list[dict]:
 
 HEAVY_FILMS = {"E1=3Einf": ((3 * E_INF, TAU),), "E1=10Einf": ((10 * E_INF, TAU),),
                "three terms": ((3 * E_INF, 1e-3), (3 * E_INF, TAU), (3 * E_INF, 0.1))}
+
+
+def _against_reference(kw, quick: bool, row: dict):
+    """(the automatic line solve of ``kw``, its reference on 2^20 points (2^18 with --quick)
+    over twice its period), or (None, None) with ``row["failed"]`` saying why."""
+    try:
+        r = solve(**kw)
+        return r, solve(**kw, grid_points=2**18 if quick else 2**20,
+                        domain_length=2 * r.domain_length * FILM["thickness"])
+    except (ConvergenceError, InputError) as exc:
+        row["failed"] = f"{type(exc).__name__}: {exc}"[:120]
+        return None, None
 
 
 def part_heavy_terms(quick: bool, out, t0) -> list[dict]:
@@ -537,12 +545,8 @@ def part_heavy_terms(quick: bool, out, t0) -> list[dict]:
                            "path": "", "edge_structure_resolved": False, "grid_points": 0,
                            "error_estimate": math.nan, "true_error": math.nan, "carrier": "",
                            "bounded": False, "failed": ""}
-                    try:
-                        r = solve(**kw)
-                        ref = solve(**kw, grid_points=2**18 if quick else 2**20,
-                                    domain_length=2 * r.domain_length * FILM["thickness"])
-                    except (ConvergenceError, InputError) as exc:  # a row, not a stop
-                        row["failed"] = f"{type(exc).__name__}: {exc}"[:120]
+                    r, ref = _against_reference(kw, quick, row)
+                    if r is None:  # a row, not a stop
                         rows.append(row)
                         progress(len(rows), n, f"{fname} {name} V={V:.1e}: {row['failed'][:40]}", t0)
                         continue
