@@ -301,27 +301,29 @@ def _level_sizes(L, a, tol, grid_points, domain_length, edge_scales=(), layer_sc
         return [grid_points // 2, grid_points]
     across = max(_FIRST_ACROSS, _EDGE_ERROR / tol)
     n1 = pow2_at_least(L / (2 * a / across), MIN_POINTS)
-    edge = None  # the edge structure that sets the grid, if one does
+    why = None  # the viscoelastic structure that sets the grid, if one does (messages)
     for width, weight in edge_scales:
         if weight * width / a > VISCO_EDGE_SHARE * tol:
             n_edge = pow2_at_least(VISCO_EDGE_CELLS * L / (2 * width), MIN_POINTS)
             if n_edge > n1:
-                n1, edge = n_edge, width
+                n1, why = n_edge, (f"the viscoelastic edge structure |V| tau = {width:.2g} h (a "
+                                   f"Prony term heavier than E_i/E_inf = "
+                                   f"{_LineSolve.LAYER_FITTED_WEIGHT:g})")
     for width, weight in layer_scales:
         if _LineSolve.LAYER_OFFSET * weight * width / (2 * a) > VISCO_EDGE_SHARE * tol:
             n_layer = pow2_at_least(L / (2 * (1.0 + weight) * width), MIN_POINTS)
             if n_layer > n1:
-                n1, edge = n_layer, None
+                n1, why = n_layer, (f"the trailing-edge offset of a Prony term E_i/E_inf = "
+                                    f"{weight:.3g} (cells down to its retardation length "
+                                    f"{(1.0 + weight) * width:.2g} h)")
     # the third level (2 n1), the first whose estimate may stop the refinement, must fit: say
     # so before allocating anything (a grid of 2^21 used to run two levels for ~15 s and stop
     # with exit 3, its estimate below tol but one level short)
     needed = 2 * n1
-    if needed > MAX_POINTS and edge is not None:
+    if needed > MAX_POINTS and why is not None:
         raise InputError(
-            f"the viscoelastic edge structure |V| tau = {edge:.2g} h (a Prony term heavier than "
-            f"E_i/E_inf = {_LineSolve.LAYER_FITTED_WEIGHT:g}) needs ~{needed:.1e} grid points "
-            f"on the period {L:.3g} h at tol {tol:g} (> {MAX_POINTS} = 2^22): raise tol, or "
-            f"change the speed or the Prony series")
+            f"{why} needs ~{needed:.1e} grid points on the period {L:.3g} h at tol {tol:g} (> "
+            f"{MAX_POINTS} = 2^22): raise tol, or change the speed or the Prony series")
     if needed > MAX_POINTS and domain_length is not None:
         raise InputError(
             f"domain_length {domain_length:.4g} h needs ~{needed:.1e} grid points to resolve "
