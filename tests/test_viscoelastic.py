@@ -817,7 +817,7 @@ def test_stagnating_levels_fall_back_to_the_resolved_edge_structure(monkeypatch)
 
 # --- surfaces without the grid rule (issue 23's sixth session) ------------------------------
 def test_surface_peak_pressure_ignores_the_odd_even_mode():
-    """A viscoelastic surface's p_max (numerics.measure2d._peak_odd_even): a smooth pressure
+    """A viscoelastic surface's p_max (numerics.edges.peak_odd_even along x): a smooth pressure
     1 - 2 r^2 (peak 1 at x = 0.013, between nodes) plus an odd-even mode of 1 % along x
     (what an unresolved edge structure leaves) has its peak within 1e-4; the 3-node parabola
     (elastic films, and the viscoelastic ones before) is ~1 % off."""

@@ -351,10 +351,11 @@ _ODD_EVEN_FIT = np.linalg.pinv(np.stack([np.ones(7), _ODD_EVEN_T, _ODD_EVEN_T **
                                          (-1.0) ** np.abs(_ODD_EVEN_T)], axis=1))
 
 
-def peak_odd_even(x, p):
+def peak_odd_even(x, p, wrap=True):
     """(p_max, x_max) of a line's pressure on a viscoelastic film: least squares over the 7
     nodes around the largest of a parabola plus an odd-even term e (-1)^k; ``peak`` (the
-    3-node parabola) where the fit has no maximum within 1.5 cells of that node.
+    3-node parabola) where the fit has no maximum within 1.5 cells of that node, or (``wrap``
+    False: a surface's row, ``measure2d``) where the 7 nodes would pass the row's ends.
 
     Why: with the leading edge's glassy layer (width |V| tau_i) narrower than a cell, the
     discrete contact carries a node-to-node alternating pressure (the grid's Nyquist mode)
@@ -362,9 +363,11 @@ def peak_odd_even(x, p):
     the paper's scene at 1e-4 m/s on 4096 points (|V| tau = 0.1 cell), +-1.6e-2 at the peak
     (1.5e-3 of p_max), while the smooth part is within 1.7e-4 (mean) of a 2^19-point solve.
     A grid mode, not part of the continuum pressure: the levels compare the smooth part's peak,
-    not the mode's sign at the largest node (the surfaces' ``measure2d._peak_odd_even``)."""
+    not the mode's sign at the largest node (the surfaces' rows too: ``measure2d``)."""
     j = int(np.argmax(p))
     n = p.size
+    if not wrap and not 3 <= j < n - 3:
+        return peak(x, p)
     idx = np.arange(j - 3, j + 4) % n
     a, b, c, _ = _ODD_EVEN_FIT @ p[idx]
     if not c < 0 or abs(b / (2 * c)) > 1.5:

@@ -19,7 +19,7 @@ are; along a y column (n = |sin theta| s) it is |sin theta|^{3/2} G_{l |cot thet
 theta| the slope |dy/dx| of the boundary: the columns' trailing edges are refitted with l_j
 times the slope of their first (elastic) fits.
 The peak pressure on a viscoelastic film (``trailing`` given) is fitted over 7 nodes along x
-with the x-Nyquist (odd-even) mode as an unknown of its own (``_peak_odd_even``): with the edge
+with the x-Nyquist (odd-even) mode as an unknown of its own (``edges.peak_odd_even``): with the edge
 structure |V| tau narrower than a cell, the discrete contact carries a node-to-node alternating
 pressure along x across the contact whose amplitude falls with the cell (measured on a film 11
 times stiffer when glassy, 1 mm/s: 0.8 %, 0.35 %, 0.11 % of p_max at 256^2, 512^2, 1024^2;
@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .edges import contact_runs, fit_edges, peak
+from .edges import contact_runs, fit_edges, peak, peak_odd_even
 
 __all__ = ["measure_contact_2d"]
 
@@ -169,25 +169,6 @@ def _extreme(values, coord, d, largest):
     return float(best if largest else -best)
 
 
-_ODD_EVEN_NODES = 3  # each side of the largest node: 7 nodes, 4 unknowns
-
-
-def _peak_odd_even(x, p, i):
-    """(p_max, x_max) of a row ``p`` (along x) near its node ``i``: least squares over the 7
-    nodes i-3 ... i+3 of a parabola plus an odd-even term e (-1)^k (module docstring); the
-    3-node parabola (``edges.peak``) where the window leaves the row or the fit has no
-    maximum."""
-    k = _ODD_EVEN_NODES
-    if i < k or i + k >= p.size:
-        return peak(x, p)
-    t = np.arange(-k, k + 1, dtype=float)
-    basis = np.stack([np.ones_like(t), t, t * t, (-1.0) ** np.abs(t)], axis=1)
-    a, b, c, _ = np.linalg.lstsq(basis, p[i - k:i + k + 1], rcond=None)[0]
-    if not c < 0 or abs(b / (2 * c)) > 1.5:  # no maximum within the window's centre
-        return peak(x, p)
-    return float(a - b * b / (4 * c)), float(x[i] - b / (2 * c) * (x[1] - x[0]))
-
-
 def measure_contact_2d(grid, pressure, gap, active, trailing=None, from_pressure=False) -> dict:
     """Contact measures of a 2D solution: ``area``, ``x_min``, ``x_max``, ``y_min``,
     ``y_max`` (envelope of the fitted edges), ``pmax`` and its position (``xmax``, ``ymax``),
@@ -213,7 +194,7 @@ def measure_contact_2d(grid, pressure, gap, active, trailing=None, from_pressure
     polygon = _boundary_area(x, y, left, right, bottom, top) if single else None
     i, j = np.unravel_index(int(np.argmax(pressure)), pressure.shape)
     px, xm = peak(x, pressure[:, j]) if trailing is None else \
-        _peak_odd_even(x, pressure[:, j], i)  # (the column's increment below: the mode
+        peak_odd_even(x, pressure[:, j], wrap=False)  # (the column's increment below: the mode
     py, ym = peak(y, pressure[i, :])            # is the same sign along it, it cancels)
     load = float(pressure.sum() * dx * dy)
     j0 = int(np.argmin(np.abs(y)))
