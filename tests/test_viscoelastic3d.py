@@ -121,3 +121,29 @@ def test_sphere_tip_column_keeps_the_period():
               prony=((E_INF, 0.01),), **FILM)
     assert r.domain_length[1] < 1.1 * r.domain_length[0]
     assert r.grid_points[1] <= r.grid_points[0]
+
+
+def test_viscoelastic_output_fields_through_the_cached_multipliers():
+    """A moving film's output fields through ``fft3d_fields._output_fields`` (the elastic
+    film's multipliers, the displacements' times R(k), cached per grid) equal the film's own
+    ``base_stresses`` and ``surface_displacements`` to round-off, Nyquist row included (the
+    code before left R out of the multipliers: the displacements were the relaxed film's)."""
+    from spectral_contact.numerics.fft import get_rfft
+    from spectral_contact.numerics.grid import Grid
+    from spectral_contact.physics.viscoelastic import ViscoelasticFilm
+    from spectral_contact.solvers.fft3d_fields import _output_fields
+
+    g = Grid.centered((64, 48), (12.0, 10.0))
+    x, y = np.meshgrid(*g.axes, indexing="ij")
+    p = np.clip(1.0 - ((x - 0.3) / 2.1) ** 2 - (y / 1.7) ** 2, 0.0, None) ** 0.5 * (1 + 0.2 * x)
+    for mu, speed in ((0.0, 0.3), (0.4, -0.3), (0.2, 2.0)):  # (a Prony film: nu 1/2)
+        film = ViscoelasticFilm(poisson=0.5, relaxed_young=1.0, prony=((1.0, 0.5),), speed=speed)
+        assert film.moving
+        fft = get_rfft(g.shape)
+        shear = (mu * p, np.zeros_like(p))
+        szz, (sxz, syz) = film.base_stresses(fft, g, -p, shear)
+        (ux, uy), delta = film.surface_displacements(fft, g, p, shear)
+        for _ in range(2):  # (the second call: the cached multipliers)
+            got = _output_fields(film, g, p, mu, mu * p)
+            for a, b in zip(got, (szz, sxz, syz, ux, uy, delta)):
+                assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(b))

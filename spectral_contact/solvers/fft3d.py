@@ -41,7 +41,6 @@ import numpy as np
 
 from ..errors import ConvergenceError, InputError
 from ..numerics.contact import nested_guess
-from ..numerics.fft import get_rfft
 from ..numerics.grid import Grid, pow2_at_least
 from ..numerics.measure2d import measure_contact_2d
 from ..numerics.open_domain import box_of, open_grid
@@ -440,12 +439,11 @@ class _SurfaceSolve:
     def fields(self, sol, p, shear):
         """The final grid's base tractions and surface displacements (FFT pairs counted)."""
         prob, scene, film = self.prob, self.scene, self.prob.film
-        if prob.visco:  # the Film's own output fields; the surface displacements with the
-            # long tails' images summed as in the contact (numerics.operators.tail_terms)
-            fft = get_rfft(sol.grid.shape)
-            shear_ = (shear, np.zeros_like(p))
-            szz, (sxz, syz) = film.base_stresses(fft, sol.grid, -p, shear_)
-            (ux, uy), delta = film.surface_displacements(fft, sol.grid, p, shear_)
+        if prob.visco:  # the elastic film's multipliers, the displacements' times R(k)
+            # (``fft3d_fields._multipliers``, cached per grid as the elastic film's; Amontons
+            # only on a Prony film); the surface displacements with the long tails' images
+            # summed as in the contact (numerics.operators.tail_terms)
+            szz, sxz, syz, ux, uy, delta = _output_fields(film, sol.grid, p, scene.mu, shear)
             g, flat = sol.grid, p.ravel()
 
             def summed(field, poles):

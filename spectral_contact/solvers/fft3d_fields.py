@@ -78,13 +78,19 @@ def _multipliers(film: Film, grid, mu):
                                                     grid.kmag)
 
     def pairs(nx, ny, sl):
-        """(M_p, M_t) of szz, sxz, syz, ux, uy, delta on the modes ``sl``."""
+        """(M_p, M_t) of szz, sxz, syz, ux, uy, delta on the modes ``sl``; a moving
+        viscoelastic film's displacements times its R(k) = G_inf/G*(-k_x V) (the stresses
+        are the elastic film's: ``ViscoelasticFilm.surface_displacement_transfer``)."""
         a, b, bp, c, t = A[sl], iB[sl], iBp[sl], C[sl], T[sl]
         cl, ct, f1, dd = cL[sl], cT[sl], iF1[sl], d0[sl]
         nx2 = nx * nx
-        return ((-a, b * nx), (-bp * nx, c * nx2 + t * (1.0 - nx2)),
-                (-bp * ny, (c - t) * nx * ny), (-f1 * nx, cl * nx2 + ct * (1.0 - nx2)),
-                (-f1 * ny, (cl - ct) * nx * ny), (dd, f1 * nx))
+        out = ((-a, b * nx), (-bp * nx, c * nx2 + t * (1.0 - nx2)),
+               (-bp * ny, (c - t) * nx * ny), (-f1 * nx, cl * nx2 + ct * (1.0 - nx2)),
+               (-f1 * ny, (cl - ct) * nx * ny), (dd, f1 * nx))
+        if not getattr(film, "moving", False):
+            return out
+        R = film.modulus_ratio((nx, ny), grid.kmag[sl])
+        return out[:3] + tuple((R * mp, R * mt) for mp, mt in out[3:])
 
     nx, ny = (np.broadcast_to(n, grid.kshape) for n in grid.direction)
     full = (slice(None),) * 2
