@@ -134,7 +134,8 @@ def test_lattice_error_is_smooth_in_the_fitted_offset():
 def test_line_solver_with_the_lattice_correction_settles_x_c_from_grid_to_grid(monkeypatch):
     """The paper's scene on the SLS film at 10 m/s (nearly glassy; the lead's seventh-session
     case), fixed grids on one period: x_c/a wandered by ~1e-4 from N to N (the edges' noise,
-    not monotone in N); with ``solvers.fft.LATTICE_CORRECTION`` within 1e-5."""
+    not monotone in N); with the correction (``solvers.fft.VISCO_LATTICE``, on for
+    viscoelastic films) within 1e-5."""
     from spectral_contact import solve
     from spectral_contact.solvers import fft as fft_solver
 
@@ -145,9 +146,9 @@ def test_line_solver_with_the_lattice_correction_settles_x_c_from_grid_to_grid(m
         c = [solve(grid_points=n, **kw) for n in (2048, 2304, 2560, 2816)]
         return (max(r.center for r in c) - min(r.center for r in c)) / c[0].half_width
 
-    before = spread()
-    monkeypatch.setattr(fft_solver, "LATTICE_CORRECTION", True)
     after = spread()
+    monkeypatch.setattr(fft_solver, "VISCO_LATTICE", False)
+    before = spread()
     assert before > 3e-5 and after < 1e-5
 
 
