@@ -176,3 +176,31 @@ def test_one_node_run_with_crossed_fits_is_not_moved_by_the_period():
     g2 = np.where(act, 0.0, (np.maximum(d, 0.0) * dx) ** 1.5)
     (l2, r2), = fit_edges(x, dx, g2, np.where(act, 1.0, 0.0), act)
     assert l2 < x[n - 2] and r2 > n * dx + x[1]
+
+
+def test_the_correction_is_on_for_viscoelastic_lines_only():
+    """Issue 23's cost: viscoelastic lines correct their edges (``VISCO_LATTICE``); the elastic
+    film keeps the uncorrected fits its issue-13 estimate was verified on (``--speed 0`` with
+    the Prony terms is the elastic film)."""
+    from spectral_contact.physics.scene import Scene
+    from spectral_contact.solvers import fft as fft_solver
+    from spectral_contact.solvers.fft_driver import Problem
+
+    def lattice(**kw):
+        scene = Scene(load=200.0, mu=2.0, young=2.2e6, thickness=0.002, radius=0.130, **kw)
+        return fft_solver._lattice_edges(Problem(scene, "exact", 1e-4))
+
+    sls = dict(speed=0.01, prony=((2.2e6, 0.01),))
+    assert lattice(**sls) and not lattice() and not lattice(speed=0.0, prony=sls["prony"])
+
+
+def test_corrected_edges_keep_half_the_shift_difference():
+    """With the phase error corrected, the grid and the shifted grid differ by errors their
+    average does not cancel: the estimate keeps half their difference (a quarter for the
+    uncorrected fits, whose averaged phase error was measured at that)."""
+    from spectral_contact.solvers.fft import _discretisation_error
+
+    step, last = np.array([1e-6, 0.0, 0.0, 0.0]), np.array([2e-6, 0.0, 0.0, 0.0])
+    assert _discretisation_error(step, last, 1e-4) == pytest.approx(0.25e-4)
+    assert _discretisation_error(step, last, 1e-4, corrected=True) == pytest.approx(0.5e-4)
+    assert _discretisation_error(step, None, 1e-4, corrected=True) == pytest.approx(0.5e-4)
