@@ -125,9 +125,10 @@ the elastic film's estimate unchanged: the noise the correction removes is large
 (their contact is the glassy, smaller one in cells; the sliding contact's x_c takes both
 edges' independent errors; the trailing edge's layer at |V| tau ~ a cell adds 1.5x:
 studies/README, viscoelastic, the edges' grid-to-grid noise), and it is what made their
-levels go one doubling past the elastic solve's.  Their estimate (the same rule) then bounds
-the true error more loosely, which issue 23 does not limit (its sweeps over V: studies/README,
-viscoelastic, eighth session); the elastic solve, ``--speed 0`` included, is as before."""
+levels go one doubling past the elastic solve's.  Their estimate (the same rule but half the
+shift difference, ``_discretisation_error``) then bounds the true error more loosely, which
+issue 23 does not limit (its sweeps over V, all bounded: studies/README, viscoelastic, lines
+with corrected edges); the elastic solve, ``--speed 0`` included, is as before."""
 
 
 def _lattice_edges(prob, exponential=False) -> bool:
