@@ -234,28 +234,3 @@ def test_frictionless_sphere_against_the_axisymmetric_reference(a_over_h):
     sel = np.abs(r.x) < ref.a + 4.0
     bz = ref.base_sigma_zz(np.abs(r.x[sel]))
     assert np.max(np.abs(r.base_sigma_zz[sel, j] - bz)) <= tol * np.max(np.abs(bz))
-
-
-def _ellipse_edges(a, b, x0=0.37, y0=-0.21, n=64):
-    """An ellipse's exact edges along the rows and columns of unit cells."""
-    x = np.arange(n) - n / 2.0
-    y = x.copy()
-    qr = np.clip(1.0 - ((y - y0) / b) ** 2, 0.0, None)
-    qc = np.clip(1.0 - ((x - x0) / a) ** 2, 0.0, None)
-    rows = np.where(qr > 0, a * np.sqrt(qr), np.nan)
-    cols = np.where(qc > 0, b * np.sqrt(qc), np.nan)
-    return x, y, x0 - rows, x0 + rows, y0 - cols, y0 + cols
-
-
-@pytest.mark.parametrize("a, b", [(17.3, 12.1), (9.4, 9.4), (25.2, 6.3), (5.3, 4.1)])
-def test_boundary_area_holds_the_chords_segments(a, b):
-    """The polygon through exact edge points has the chords' deficit (the code before: the
-    area 1.1e-3 ... 1.1e-2 short of pi a b here, ~ the cell^2 / radius^2); with each chord's
-    circular segment kappa c^3 / 12 it is within 9e-5 (measured 3e-7 ... 9e-5), and so with a
-    viscoelastic film's trailing rows taken up to slope 2."""
-    from spectral_contact.numerics.measure2d import _boundary_area
-    edges = _ellipse_edges(a, b)
-    for side in (None, -1, +1):
-        area = _boundary_area(*edges) if side is None else \
-            _boundary_area(*edges, trailing_side=side)
-        assert abs(area / (math.pi * a * b) - 1.0) < 2e-4

@@ -127,30 +127,20 @@ def _column_layer(x, y, dy, gap, p, active, length, bottom, top, trailing, from_
                 e[i] = new
 
 
-def _boundary_area(x, y, left, right, bottom, top, trailing_side=None):
+def _boundary_area(x, y, left, right, bottom, top):
     """Area of the polygon through the fitted edge points, each taken from the grid line that
     crosses the boundary more steeply (rows where the boundary runs within 45 degrees of y,
-    columns elsewhere): grazing lines, whose 1D fits are poor, are left out; plus the circular
-    segments between its chords and the boundary (``_segments``).  ``trailing_side`` (a
-    viscoelastic film's, -1 the left): there the rows are taken up to TRAILING_ROW_SLOPE (and
-    the columns only beyond it; module docstring).  Needs one run per line and a contact
-    star-shaped about its centre; returns None otherwise."""
+    columns elsewhere): grazing lines, whose 1D fits are poor, are left out.  Needs one run per
+    line and a contact star-shaped about its centre; returns None otherwise."""
     pts = []
     for coord, lo, hi, along_x in ((y, left, right, True), (x, bottom, top, False)):
         ok = np.flatnonzero(np.isfinite(lo))
         if ok.size < 3:
             return None
         c = coord[ok]
-        for e, sigma in ((lo[ok], -1), (hi[ok], +1)):
-            grad = np.gradient(e, c)  # d(edge)/d(line coordinate)
-            slope = np.abs(grad)
+        for e in (lo[ok], hi[ok]):
+            slope = np.abs(np.gradient(e, c))  # d(edge)/d(line coordinate)
             keep = slope <= 1.0
-            if trailing_side is not None and TRAILING_ROW_SLOPE > 1.0:
-                if along_x and sigma == trailing_side:
-                    keep = slope <= TRAILING_ROW_SLOPE
-                elif not along_x:  # the columns' trailing edges (``_column_layer``'s test)
-                    trail = -sigma * grad * trailing_side > 0.0
-                    keep &= ~trail | (slope < 1.0 / TRAILING_ROW_SLOPE)
             keep[[0, -1]] = False  # the end lines graze the boundary
             pts.extend(zip(e[keep], c[keep]) if along_x else zip(c[keep], e[keep]))
     if len(pts) < 8:
@@ -159,31 +149,7 @@ def _boundary_area(x, y, left, right, bottom, top, trailing_side=None):
     xc, yc = pts.mean(axis=0)
     order = np.argsort(np.arctan2(pts[:, 1] - yc, pts[:, 0] - xc))
     px, py = pts[order, 0], pts[order, 1]
-    area = 0.5 * abs(np.dot(px, np.roll(py, -1)) - np.dot(py, np.roll(px, -1)))
-    if SEGMENTS:
-        area += _segments(px, py)
-    return area
-
-
-TRAILING_ROW_SLOPE = 2.0
-SEGMENTS = True
-
-
-def _segments(px, py) -> float:
-    """The circular segments between the polygon's chords and the boundary through its
-    vertices: per chord of length c, kappa c^3 / 12 (kappa the signed curvature of the circles
-    through each end vertex and its two neighbours, averaged over the two ends; positive where
-    the boundary bulges outward, counter-clockwise order)."""
-    ax, ay = np.roll(px, 1), np.roll(py, 1)   # previous vertex
-    bx, by = np.roll(px, -1), np.roll(py, -1)  # next vertex
-    cross = (px - ax) * (by - ay) - (py - ay) * (bx - ax)
-    l1 = np.hypot(px - ax, py - ay)
-    l2 = np.hypot(bx - px, by - py)
-    l3 = np.hypot(bx - ax, by - ay)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        kappa = np.where(l1 * l2 * l3 > 0, 2.0 * cross / (l1 * l2 * l3), 0.0)
-    k_chord = 0.5 * (kappa + np.roll(kappa, -1))  # chord from vertex i to i + 1
-    return float(np.sum(k_chord * l2 ** 3) / 12.0)
+    return 0.5 * abs(np.dot(px, np.roll(py, -1)) - np.dot(py, np.roll(px, -1)))
 
 
 def _extreme(values, coord, d, largest):
@@ -225,8 +191,7 @@ def measure_contact_2d(grid, pressure, gap, active, trailing=None, from_pressure
     area = 0.5 * (len_x.sum() * dy + len_y.sum() * dx)
     single = np.allclose(len_x[np.isfinite(left)], (right - left)[np.isfinite(left)]) and \
         np.allclose(len_y[np.isfinite(bottom)], (top - bottom)[np.isfinite(bottom)])
-    polygon = _boundary_area(x, y, left, right, bottom, top,
-                             None if trailing is None else trailing[0]) if single else None
+    polygon = _boundary_area(x, y, left, right, bottom, top) if single else None
     i, j = np.unravel_index(int(np.argmax(pressure)), pressure.shape)
     px, xm = peak(x, pressure[:, j]) if trailing is None else \
         peak_odd_even(x, pressure[:, j], wrap=False)  # (the column's increment below: the mode
