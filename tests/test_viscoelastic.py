@@ -687,6 +687,25 @@ def test_cost_study_tolerances(tmp_path, capsys):
         assert len(err) == 1 and "--tol" in err[0]
 
 
+def test_cost_study_film(tmp_path, capsys):
+    """studies.viscoelastic_cost --film E1=3Einf: the heavier single term's own table (its Prony
+    term in the title), beside the SLS's; an unknown film exits 2."""
+    import json
+
+    from studies.viscoelastic_cost import main as cost_main
+
+    assert cost_main(["--quick", "--film", "E1=3Einf", "--tol", "1e-3", "--out", str(tmp_path)]) == 0
+    rows = np.genfromtxt(tmp_path / "viscoelastic_cost_E1=3Einf.csv", delimiter=",", names=True,
+                         dtype=None, encoding="utf-8")
+    assert rows.size == 6 and np.all(rows["time_ratio"] > 0)
+    title = json.loads((tmp_path / "viscoelastic_cost_E1=3Einf.meta.json").read_text())["title"]
+    assert "E_i 6.6e+06 Pa" in title
+    assert not (tmp_path / "viscoelastic_cost.csv").exists()
+    with pytest.raises(SystemExit) as e:
+        cost_main(["--film", "E1=5Einf", "--out", str(tmp_path)])
+    assert e.value.code == 2
+
+
 @pytest.mark.parametrize("kl,mu,sign", [(0.074, 0.0, 1.0), (0.74, 2.0, 1.0), (0.74, 2.0, -1.0),
                                         (1.0, 0.0, 1.0), (1.48, -1.0, 1.0), (4.4, 0.0, 1.0)])
 def test_line_far_field_is_the_kernels(kl, mu, sign):
