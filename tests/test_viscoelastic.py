@@ -791,7 +791,7 @@ def test_full_path_meets_the_slow_sliding_theory():
     fixed grid whose cells are 80 times V tau (a_H/h 1 at 1e-5 m/s, 4096 points, the period of
     the tol-1e-4 solve), its trailing edge fitted with the inner layer and corrected by the
     collocation's edge error (``solvers.fft.VISCO_LATTICE``): a, x_c, the centroid within 1e-5
-    of a, d and p_max within 1e-5 (measured 2.8e-6 on a; the full path on 2^18 points 2e-7).
+    of a, d and p_max within 1e-5 (measured 2.8e-6 on a; the full path on 2^18 points 3e-7).
     With the elastic edge fit the trailing edge sits delta further out: a 3.1e-5 off.  (Before
     the correction the theory's elastic solve was taken at tol 1e-4 on the same 4096 nodes:
     they agreed within 2e-7 by sharing the nodes' edge error, while both were 4.5e-5 from the
