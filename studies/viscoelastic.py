@@ -475,31 +475,7 @@ def part_edge_range(quick: bool, out, t0) -> list[dict]:
     scenes = [("aH/h=1", load_for(1.0), 0.0), ("paper", 200.0, 2.0), ("aH/h=0.3", load_for(0.3), 0.5)]
     speeds = (1e-3,) if quick else (1e-4, 10 ** -3.5, 1e-3, 10 ** -2.5, 1e-2, 10 ** -1.5)
     tols = (1e-3,) if quick else (1e-4, 1e-3)
-    rows = []
-    n = len(films) * len(scenes) * len(speeds) * len(tols)
-    for tol in tols:
-        for fname, prony in films.items():
-            for name, load, mu in scenes:
-                for V in speeds:
-                    kw = dict(load=load, mu=mu, speed=V, prony=prony, tol=tol, **FILM)
-                    row = {"tol": tol, "film": fname, "scene": name, "speed_m_per_s": V,
-                           "path": "", "edge_structure_resolved": False, "grid_points": 0,
-                           "error_estimate": math.nan, "true_error": math.nan, "bounded": False,
-                           "failed": ""}
-                    r, ref = _against_reference(kw, quick, row)
-                    if r is None:  # a row, not a stop
-                        rows.append(row)
-                        progress(len(rows), n, f"{fname} {name} V={V:.1e}: {row['failed'][:40]}", t0)
-                        continue
-                    err = _line_change(r, ref)
-                    row.update({
-                        "path": "slow" if "slow_sliding" in r.info else "full",
-                        "edge_structure_resolved": bool(r.info.get("edge_structure_resolved")),
-                        "grid_points": r.grid_points, "error_estimate": r.error_estimate,
-                        "true_error": err, "bounded": bool(err <= r.error_estimate)})
-                    rows.append(row)
-                    progress(len(rows), n, f"tol {tol:g} {fname} {name} V={V:.1e}: est "
-                             f"{r.error_estimate:.1e} true {err:.1e}", t0)
+    rows = _against_references(films, scenes, speeds, tols, quick, t0)
     table(rows, out / "viscoelastic_edge_range.csv",
           "the trailing-edge layer fit's range: stiffer films (resolved) and two terms (fitted), "
           "estimate against the true error (2^20 points over twice the period)")
@@ -522,17 +498,10 @@ def _against_reference(kw, quick: bool, row: dict):
         return None, None
 
 
-def part_heavy_terms(quick: bool, out, t0) -> list[dict]:
-    """Seventh session: Prony terms up to E_i/E_inf = 10 left to the edge fits (the layer fit
-    of the trailing edge, the odd-even peak): the automatic solve's estimate against its error
-    (2^20 points over twice its period; 2^18 with --quick), and which measure carries it."""
-    scenes = [("aH/h=0.1", load_for(0.1), 0.0), ("aH/h=3", load_for(3.0), 0.0),
-              ("aH/h=1 mu0.5", load_for(1.0), 0.5), ("paper", 200.0, 2.0)]
-    speeds = (1e-4,) if quick else (1e-5, 1e-4, 1e-3, 1e-2, 0.1, 1.0)
-    tols = (1e-3,) if quick else (1e-4, 1e-3)
-    films = dict(list(HEAVY_FILMS.items())[1:2]) if quick else HEAVY_FILMS
-    if quick:
-        scenes = scenes[3:]
+def _against_references(films, scenes, speeds, tols, quick: bool, t0, carrier=False) -> list:
+    """The rows of edge_range and heavy_terms: every (tol, film, scene, speed), the automatic
+    line solve's estimate against its error from ``_against_reference`` (a failure is a row,
+    not a stop); ``carrier``: also which measure carries the error."""
     names = ("a", "x_c", "d", "p_max", "centroid")
     rows = []
     n = len(films) * len(scenes) * len(speeds) * len(tols)
@@ -543,8 +512,9 @@ def part_heavy_terms(quick: bool, out, t0) -> list[dict]:
                     kw = dict(load=load, mu=mu, speed=V, prony=prony, tol=tol, **FILM)
                     row = {"tol": tol, "film": fname, "scene": name, "speed_m_per_s": V,
                            "path": "", "edge_structure_resolved": False, "grid_points": 0,
-                           "error_estimate": math.nan, "true_error": math.nan, "carrier": "",
-                           "bounded": False, "failed": ""}
+                           "error_estimate": math.nan, "true_error": math.nan,
+                           **({"carrier": ""} if carrier else {}), "bounded": False,
+                           "failed": ""}
                     r, ref = _against_reference(kw, quick, row)
                     if r is None:  # a row, not a stop
                         rows.append(row)
@@ -556,12 +526,28 @@ def part_heavy_terms(quick: bool, out, t0) -> list[dict]:
                         "path": "slow" if "slow_sliding" in r.info else "full",
                         "edge_structure_resolved": bool(r.info.get("edge_structure_resolved")),
                         "grid_points": r.grid_points, "error_estimate": r.error_estimate,
-                        "true_error": err, "carrier": names[errs.index(err)],
-                        "bounded": bool(err <= r.error_estimate)})
+                        "true_error": err, "bounded": bool(err <= r.error_estimate)})
+                    if carrier:
+                        row["carrier"] = names[errs.index(err)]
                     rows.append(row)
                     progress(len(rows), n, f"tol {tol:g} {fname} {name} V={V:.1e}: est "
-                             f"{r.error_estimate:.1e} true {err:.1e} ({row['carrier']}), N "
-                             f"{r.grid_points}", t0)
+                             f"{r.error_estimate:.1e} true {err:.1e}"
+                             + (f" ({row['carrier']}), N {r.grid_points}" if carrier else ""), t0)
+    return rows
+
+
+def part_heavy_terms(quick: bool, out, t0) -> list[dict]:
+    """Seventh session: Prony terms up to E_i/E_inf = 10 left to the edge fits (the layer fit
+    of the trailing edge, the odd-even peak): the automatic solve's estimate against its error
+    (2^20 points over twice its period; 2^18 with --quick), and which measure carries it."""
+    scenes = [("aH/h=0.1", load_for(0.1), 0.0), ("aH/h=3", load_for(3.0), 0.0),
+              ("aH/h=1 mu0.5", load_for(1.0), 0.5), ("paper", 200.0, 2.0)]
+    speeds = (1e-4,) if quick else (1e-5, 1e-4, 1e-3, 1e-2, 0.1, 1.0)
+    tols = (1e-3,) if quick else (1e-4, 1e-3)
+    films = dict(list(HEAVY_FILMS.items())[1:2]) if quick else HEAVY_FILMS
+    if quick:
+        scenes = scenes[3:]
+    rows = _against_references(films, scenes, speeds, tols, quick, t0, carrier=True)
     table(rows, out / "viscoelastic_heavy_terms.csv",
           "Prony terms up to E_i/E_inf = 10 left to the edge fits: estimate against the true "
           "error (2^20 points over twice the period)")
