@@ -380,6 +380,8 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
     krylov_total = 0
     s = _Search(B, rtol, search_rtol, extrapolate)
     seen = s.seen
+    limit = accept if accept is not None else max(1e3 * rtol, 1e-8)  # (the check's, below)
+    fallbacks = ["meet", "join"]  # a refused cycle's further sets (below)
     for outer in range(1, max_outer + 1):  # noqa: B007 (the count is reported after the loop)
         on = _OnSet(B, active, p, d, nfft)
         sel, ni = on.sel, on.ni
@@ -423,6 +425,20 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
             # cycling between sets: a degenerate edge node, slightly penetrating when inactive
             # and slightly tensile when active.  Stop here; the residual check below accepts
             # the state only if that violation is negligible, and raises otherwise.
+            # A state that check would refuse gets two more tries first: the nodes the two
+            # sets share (the tensile ones dropped, the penetrated ones left out), then the
+            # union.  Seen behind the trailing edge of films ~100 times stiffer when glassy,
+            # where gap and pressure both stay ~0 over the relaxation tail and the sets swap
+            # neighbouring nodes (odd-even): the shared nodes' state passes at 1e-8
+            # penetration (tests/test_viscoelastic_heavy.py); a state the check would accept
+            # is kept as before (bit for bit).
+            if fallbacks and max(_residuals(B, on, p, w, gap, active, history).values()) > limit:
+                kind = fallbacks.pop(0)
+                new = (active & new) if kind == "meet" else (active | new)
+                seen.clear()
+                B.footholds(new, gap)
+                active = new
+                continue
             break
         seen.add(akey)
         B.footholds(new, gap)
@@ -435,7 +451,7 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
 
     residuals = _residuals(B, on, p, w, gap, active, history)
     residual = max(residuals.values())
-    if residual > (accept if accept is not None else max(1e3 * rtol, 1e-8)):
+    if residual > limit:
         raise ConvergenceError(
             f"contact solve ended with relative residual {residual:.2e} "
             f"({', '.join(f'{k} {v:.1e}' for k, v in residuals.items())}) after {outer} "
