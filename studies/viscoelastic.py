@@ -73,6 +73,10 @@ heavy_terms  seventh session: Prony terms up to E_i/E_inf = 10 left to the edge 
 heavy_offset  seventh session: fixed grids (2048 ... 16384 points) against 2^19 points, E_1 =
            1, 3, 10 E_inf, a_H/h 0.3 and the paper's scene, 2.5e-5 ... 2e-4 m/s: the edges'
            offsets over the term's shift while V tau is below a cell (``LAYER_OFFSET``).
+--heavy-weights  ninth session: heavy_terms and heavy_offset run single terms of these weights
+           E_1/E_inf instead (e.g. 30,100: rubber-like films 31 and 101 times stiffer when
+           glassy; heavy_terms names them "E1=30Einf", ...); their tables get the suffix
+           ``_w30_100``.  Default: the tables above, unchanged.
 figure     viscoelastic.png: mu_def and a against V; the claim's changes; the base stresses
            and their MEMS view at one speed.
 """
@@ -536,34 +540,46 @@ def _against_references(films, scenes, speeds, tols, quick: bool, t0, carrier=Fa
     return rows
 
 
-def part_heavy_terms(quick: bool, out, t0) -> list[dict]:
+def _weights_suffix(weights) -> str:
+    """'_w30_100' for --heavy-weights 30,100; '' without it (the default tables' names)."""
+    return "_w" + "_".join(f"{w:g}" for w in weights) if weights else ""
+
+
+def part_heavy_terms(quick: bool, out, t0, weights=None) -> list[dict]:
     """Seventh session: Prony terms up to E_i/E_inf = 10 left to the edge fits (the layer fit
     of the trailing edge, the odd-even peak): the automatic solve's estimate against its error
-    (2^20 points over twice its period; 2^18 with --quick), and which measure carries it."""
+    (2^20 points over twice its period; 2^18 with --quick), and which measure carries it.
+    ``weights`` (--heavy-weights, ninth session): single terms E_1 = w E_inf instead of
+    HEAVY_FILMS."""
     scenes = [("aH/h=0.1", load_for(0.1), 0.0), ("aH/h=3", load_for(3.0), 0.0),
               ("aH/h=1 mu0.5", load_for(1.0), 0.5), ("paper", 200.0, 2.0)]
     speeds = (1e-4,) if quick else (1e-5, 1e-4, 1e-3, 1e-2, 0.1, 1.0)
     tols = (1e-3,) if quick else (1e-4, 1e-3)
     films = dict(list(HEAVY_FILMS.items())[1:2]) if quick else HEAVY_FILMS
+    if weights:
+        films = {f"E1={w:g}Einf": ((w * E_INF, TAU),) for w in weights}
     if quick:
         scenes = scenes[3:]
     rows = _against_references(films, scenes, speeds, tols, quick, t0, carrier=True)
-    table(rows, out / "viscoelastic_heavy_terms.csv",
-          "Prony terms up to E_i/E_inf = 10 left to the edge fits: estimate against the true "
-          "error (2^20 points over twice the period)")
+    table(rows, out / f"viscoelastic_heavy_terms{_weights_suffix(weights)}.csv",
+          f"Prony terms {', '.join(films)} left to the edge fits: estimate against the true "
+          f"error (2^20 points over twice the period)")
     return rows
 
 
-def part_heavy_offset(quick: bool, out, t0) -> list[dict]:
+def part_heavy_offset(quick: bool, out, t0, weights=None) -> list[dict]:
     """Seventh session: what a fixed grid leaves when |V| tau is below a cell (the measures of
     ``_LineSolve.LAYER_OFFSET``): single terms E_1 = 1, 3, 10 E_inf on a_H/h 0.3 (mu 0) and the
     paper's scene (mu 2) at 2.5e-5 ... 2e-4 m/s, on 2048 ... 16384 points over the elastic
     solve's period, against 2^19 points on that period: the edges' offsets over the term's
     shift delta = (E_1/E_inf) V tau, against |V| tau/dx and the retardation length l/dx, the
     bound LAYER_OFFSET min(1, dx/l) of their sum (a and x_c move by half of it each, relative
-    to a: ``_LineSolve.layer_bias``), and p_max."""
+    to a: ``_LineSolve.layer_bias``), and p_max.  ``weights`` (--heavy-weights, ninth
+    session): these weights E_1/E_inf instead."""
     from spectral_contact.solvers.fft import _LineSolve
     films = (10.0,) if quick else (1.0, 3.0, 10.0)
+    if weights:
+        films = tuple(weights)
     scenes = [("paper", 200.0, 2.0)] + ([] if quick else [("aH/h=0.3", load_for(0.3), 0.0)])
     speeds = (1e-4,) if quick else (2.5e-5, 5e-5, 1e-4, 2e-4)
     grids = (2048, 4096) if quick else (2048, 4096, 8192, 16384)
@@ -598,7 +614,7 @@ def part_heavy_offset(quick: bool, out, t0) -> list[dict]:
                         "center_error": abs(r.center - ref.center) / a,
                         "pmax_error": abs(r.max_pressure - ref.max_pressure) / ref.max_pressure})
                 progress(len(rows) // len(grids), n, f"{name} w={w:g} V={V:.1e}", t0)
-    table(rows, out / "viscoelastic_heavy_offset.csv",
+    table(rows, out / f"viscoelastic_heavy_offset{_weights_suffix(weights)}.csv",
           "fixed grids against 2^19 points on the elastic period: the edges' offsets over the "
           "term's shift delta while V tau is below a cell (trailing positive = inward)")
     return rows
@@ -893,6 +909,19 @@ def _forces(text: str) -> tuple:
     return forces
 
 
+def _weights(text: str) -> tuple:
+    """'30,100' -> (30.0, 100.0); one line and exit 2 unless each is a number > 0."""
+    try:
+        weights = tuple(float(w) for w in text.split(","))
+    except ValueError:
+        weights = ()
+    if not weights or not all(0.0 < w < math.inf for w in weights):
+        print(f"--heavy-weights must be a comma list of weights E_1/E_inf > 0; got {text!r}",
+              file=sys.stderr)
+        raise SystemExit(2)
+    return weights
+
+
 def main(argv=None) -> int:
     def extra(p):
         p.add_argument("--parts", default=",".join(PARTS),
@@ -906,9 +935,13 @@ def main(argv=None) -> int:
                        help="sphere_beyond_cost: comma list of tolerances (default 1e-2,5e-3,1e-3)")
         p.add_argument("--sphere-forces", default="1",
                        help="sphere_beyond_cost: comma list of the sphere's loads [N] (default 1)")
+        p.add_argument("--heavy-weights", default="",
+                       help="heavy_terms, heavy_offset: comma list of single terms' weights "
+                            "E_1/E_inf to run instead of the default films (e.g. 30,100)")
 
     args, out = parse(argv, __doc__.splitlines()[0], "out/viscoelastic", extra=extra)
     parts = args.parts.split(",")
+    weights = _weights(args.heavy_weights) if args.heavy_weights else None
     t0 = time.perf_counter()
     if "speed" in parts:
         part_speed(args.quick, out, t0)
@@ -945,9 +978,9 @@ def main(argv=None) -> int:
     if "edge_range" in parts:
         part_edge_range(args.quick, out, t0)
     if "heavy_terms" in parts:
-        part_heavy_terms(args.quick, out, t0)
+        part_heavy_terms(args.quick, out, t0, weights)
     if "heavy_offset" in parts:
-        part_heavy_offset(args.quick, out, t0)
+        part_heavy_offset(args.quick, out, t0, weights)
     return 0
 
 
