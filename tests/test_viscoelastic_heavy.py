@@ -176,3 +176,15 @@ def test_rubber_like_film_whose_active_sets_cycle_solves():
               abs(coarse.indentation - fine.indentation) / abs(fine.indentation),
               abs(coarse.max_pressure - fine.max_pressure) / fine.max_pressure)
     assert rel <= coarse.error_estimate + fine.error_estimate
+
+
+def test_heavy_weights_option_refuses_bad_input(tmp_path, capsys):
+    """studies.viscoelastic --heavy-weights (ninth session): one line naming the option and
+    exit 2 for weights that are not numbers > 0."""
+    from studies.viscoelastic import main
+
+    for bad in ("x", "30,-1", "0"):
+        with pytest.raises(SystemExit) as exc:
+            main(["--parts", "heavy_offset", "--heavy-weights", bad, "--out", str(tmp_path)])
+        assert exc.value.code == 2
+        assert "--heavy-weights must be" in capsys.readouterr().err
