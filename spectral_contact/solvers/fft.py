@@ -469,7 +469,14 @@ class _LineSolve:
     # films 4-11 times stiffer when glassy) and p_max fitted with the odd-even grid mode
     # (``edges.peak_odd_even``: the unresolved leading-edge layer's mode made p_max converge
     # as N^-2 from ~1e-3, what stopped the widened fit before: p_max 1.5e-3 off under an
-    # estimate of 6.8e-4, E_1 = 3 E_inf, a_H/h 0.3, mu 0.5, 0.32 mm/s, tol 1e-3)
+    # estimate of 6.8e-4, E_1 = 3 E_inf, a_H/h 0.3, mu 0.5, 0.32 mm/s, tol 1e-3).  Not beyond
+    # 10: 30 and 100 tried in the ninth session (**rubber-like films on lines**): the leading
+    # edge's glassy spike (above the outer peak from |V| tau_i / a ~ 2 / w^2 on; a local
+    # maximum of height ~ the outer peak x sqrt(2 |V| tau_i / a) (w/2 + O(1))) is then narrower
+    # than the fitted grids' cells, which do not see it: p_max 2-38 % off under estimates of
+    # 5e-4 - 8e-3 at tol 1e-2 and 1e-3 (w = 10: the spike comes up at |V| tau_i >= 0.02 a,
+    # where the grids resolve it); and the trailing offset passes LAYER_OFFSET min(1, dx/l_i)
+    # (up to 3.4 times at w = 30; 0.2-0.55 cells at w = 100)
     LAYER_FITTED_WEIGHT = 10.0
     LAYER_BIAS_WEIGHT = 1.0
     # measured (seventh session: fixed grids against 2^19-2^20 points on the same period,
