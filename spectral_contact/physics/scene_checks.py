@@ -115,6 +115,30 @@ def _check_law_scales(scene) -> None:
                              f"[{1 / LAW_SCALE_MAX:g}, {LAW_SCALE_MAX:g}]")
 
 
+def _take_film_fields(scene) -> None:
+    """A scene given a film kind that stands for scene fields (``Film.scene_fields``: a
+    ``ViscoelasticFilm``'s thickness, poisson, E_inf, Prony terms and speed [m/s]): they become
+    the scene's fields and the scene builds the film itself (one path: ``Scene.core_film``)."""
+    film = scene.film
+    if not isinstance(film, Film):
+        return  # (_take_film names the type)
+    fields = film.scene_fields()
+    if not fields:
+        return
+    for name, its in fields.items():
+        mine = getattr(scene, name)
+        if name in ("speed", "prony"):
+            if mine not in (0.0, (), None):
+                raise InputError(f"{named(name)} and {named('film')} ({type(film).__name__}) "
+                                 f"given both: give it once (in the film, or by name without "
+                                 f"film=)")
+        elif mine != its and mine != default(name):
+            raise InputError(f"{named(name)} = {mine:g} and {named('film')}.{name} = {its:g}: "
+                             f"give the film's {name} once, in the film")
+        object.__setattr__(scene, name, its)
+    object.__setattr__(scene, "film", None)
+
+
 def _take_film(scene) -> None:
     """A scene given ``film=``: its thickness, young and poisson are the film's (the scene's own
     fields left at their defaults, or equal)."""
