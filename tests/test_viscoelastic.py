@@ -928,3 +928,12 @@ def test_a_scenes_viscoelastic_film_object_is_the_scenes_own_fields():
         ViscoelasticFilm(thickness=2e-3, young=2.2e6, relaxed_young=1e6)
     with pytest.raises(InputError, match="given both"):
         solve(film=f, speed=0.05)
+
+
+def test_a_non_converged_solve_beyond_the_verified_prony_range_says_so(capsys):
+    """A film 10^6 times stiffer when glassy (E_1/E_inf = 1e6, inside the accepted 1e12) at
+    1 mm/s: the active set does not settle (exit 3, nothing written); the message names the
+    term's weight against the verified one (before: only the solver's residual)."""
+    assert main(["solve", "--speed", "1e-3", "--prony", "2.2e12,0.01"]) == 3
+    err = capsys.readouterr().err
+    assert "E_i/E_inf = 1e+06, beyond the 10" in err and len(err.strip().splitlines()) == 1
