@@ -937,3 +937,13 @@ def test_a_non_converged_solve_beyond_the_verified_prony_range_says_so(capsys):
     assert main(["solve", "--speed", "1e-3", "--prony", "2.2e12,0.01"]) == 3
     err = capsys.readouterr().err
     assert "E_i/E_inf = 1e+06, beyond the 10" in err and len(err.strip().splitlines()) == 1
+
+
+def test_sphere_text_summary_names_the_viscoelastic_film(capsys):
+    """The sphere's text summary has the viscoelastic line (V, the terms, mu_def, Q/P) as the
+    line's has (before: only its JSON record)."""
+    code, out, _ = _cli(capsys, "--indenter", "sphere", "--force", "1", "--mu", "0.3", "--speed",
+                        "0.1", "--prony", "2.2e6,0.01", "--tol", "1e-2")
+    assert code == 0 and "viscoelastic film        V = 0.1 m/s, 1 Prony term(s); mu_def" in out
+    code, out, _ = _cli(capsys, "--indenter", "sphere", "--force", "1", "--tol", "1e-2")
+    assert code == 0 and "viscoelastic" not in out
