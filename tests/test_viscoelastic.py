@@ -947,3 +947,16 @@ def test_sphere_text_summary_names_the_viscoelastic_film(capsys):
     assert code == 0 and "viscoelastic film        V = 0.1 m/s, 1 Prony term(s); mu_def" in out
     code, out, _ = _cli(capsys, "--indenter", "sphere", "--force", "1", "--tol", "1e-2")
     assert code == 0 and "viscoelastic" not in out
+
+
+def test_speeds_near_the_shear_wave_speed_are_flagged():
+    """The solve is quasi-static: past a tenth of the relaxed film's shear-wave speed
+    sqrt(E_inf/(3 rho)) (rho 1000 kg/m^3: 27 m/s for 2.2 MPa) a UserWarning says inertia is
+    neglected; below it, no warning (the scene only: nothing is solved)."""
+    import warnings
+
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        Scene(speed=10.0, prony=SLS)
+        Scene(speed=-2.0, mu=-1.0, prony=SLS)
+    assert len(seen) == 1 and "0.37 of the film's shear-wave speed" in str(seen[0].message)

@@ -209,6 +209,25 @@ def _check_viscoelastic(scene):
         raise InputError(f"--speed and --mu both give the sliding direction: they must have the "
                          f"same sign (or one be 0); got --speed {v:g}, --mu {mu:g}")
     _check_visco_scales(scene, v)
+    _warn_inertia(scene, v)
+
+
+DENSITY_ASSUMED = 1000.0  # kg/m^3: elastomers and gels (PDMS 965), for the inertia warning only
+INERTIA_WARN = 0.1  # |V| / c_s from which the neglected inertia is flagged ((V/c_s)^2 ~ 1 %)
+
+
+def _warn_inertia(scene, v) -> None:
+    """The steady-sliding solve is quasi-static: a speed past INERTIA_WARN of the relaxed film's
+    shear-wave speed c_s = sqrt(E_inf / (3 rho)) (rho = DENSITY_ASSUMED) is flagged (a
+    UserWarning; the command line prints it as one line), not refused."""
+    import warnings
+
+    c_s = math.sqrt(scene.young / (3.0 * DENSITY_ASSUMED))
+    if abs(v) > INERTIA_WARN * c_s:
+        warnings.warn(f"--speed {v:g} m/s is {abs(v) / c_s:.2g} of the film's shear-wave speed "
+                      f"sqrt(E_inf/(3 rho)) = {c_s:.3g} m/s (rho = {DENSITY_ASSUMED:g} kg/m^3 "
+                      f"assumed): the solve neglects inertia (quasi-static film), whose effect "
+                      f"grows as (V/c_s)^2", UserWarning, stacklevel=4)
 
 
 PRONY_RATIO_RANGE = (1e-12, 1e12)
