@@ -177,7 +177,7 @@ def _check_law_and_film(scene) -> None:
         # sinking kinks under the shear step tau_0 at the edge (its shear kernel ~ sgn x)
         raise InputError(f"{named('shear_strength')} (tau_0) != 0 needs {named('poisson')} 0.5: "
                          "with the shear step at the contact edge the friction-law iteration does "
-                         f"not settle on a compressible film; got poisson {scene.poisson:g}")
+                         f"not settle on a compressible film; got poisson {scene.poisson:.10g}")
 
 
 def _check_viscoelastic(scene):
@@ -195,7 +195,7 @@ def _check_viscoelastic(scene):
     if check_poisson(scene.poisson) != 0.5:
         raise InputError(f"--prony needs --poisson 0.5 (the viscoelastic film is incompressible: "
                          f"with an elastic bulk modulus its symbol is not a scaling of the "
-                         f"elastic one); got --poisson {scene.poisson:g}")
+                         f"elastic one); got --poisson {scene.poisson:.10g}")
     if scene.friction_law != "amontons" or scene.interface_compliance or \
             getattr(scene, "interface_law", "linear") != "linear":
         raise InputError("--prony takes the Amontons friction law and a rigid interface only "

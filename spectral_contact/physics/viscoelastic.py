@@ -146,7 +146,7 @@ class ViscoelasticFilm(Film):
                              f"got {self.relaxed_young!r}")
         if not self.incompressible:
             raise InputError(f"--prony needs --poisson 0.5 (an incompressible film); got "
-                             f"poisson {self.poisson:g}")
+                             f"poisson {self.poisson:.10g}")
         object.__setattr__(self, "prony", check_prony(self.prony))
 
     def scene_fields(self) -> dict:
