@@ -351,27 +351,31 @@ def _in_child(fn, timeout: float):
 
 
 def part_sphere_beyond_cost(quick: bool, out, t0, tols=None, films=None,
-                            forces=(1.0,)) -> list[dict]:
+                            forces=(1.0,), mus=(0.0,), speeds=None) -> list[dict]:
     """The sphere's cost (F = 1 N, mu 0) beyond the fitted range (seventh session): films 4 and
     11 times stiffer when glassy (E_1 = 3, 10 E_inf, tau 10 ms) at 1e-4 ... 3e-2 m/s, tol 1e-2,
     5e-3, 1e-3, against the elastic (E_inf) sphere at the same tol: CPU times, fastest of 3
     warm interleaved runs (``viscoelastic_cost._timed_pair``), each pair in a child process
     (refused, or past _BEYOND_TIMEOUT: a row that says so).  ``forces`` [N]: the sphere's
-    loads (--sphere-forces; the elastic sphere's own grid at tol 1e-3 depends on it)."""
+    loads (--sphere-forces; the elastic sphere's own grid at tol 1e-3 depends on it);
+    ``mus``, ``speeds``: friction coefficients and speeds [m/s] (``studies.viscoelastic_sphere``;
+    default mu 0 and _BEYOND_SPEEDS); ``films`` may also name the SLS and tan0.1 (peak loss
+    tangent 0.1)."""
     from .viscoelastic_cost import _timed_pair  # (it imports this module)
-    speeds = (1e-3, 3e-2) if quick else _BEYOND_SPEEDS
+    speeds = speeds or ((1e-3, 3e-2) if quick else _BEYOND_SPEEDS)
     tols = tols or ((1e-2,) if quick else (1e-2, 5e-3, 1e-3))
     chosen = films
     films = STIFF_FILMS[:1] if quick else STIFF_FILMS
     if chosen:  # --sphere-films (also the SLS, for comparison)
-        films = [f for f in (("SLS", SLS),) + STIFF_FILMS if f[0] in chosen]
+        tan01 = ((sls_for_peak_loss(0.1) * E_INF, TAU),)
+        films = [f for f in (("SLS", SLS), ("tan0.1", tan01)) + STIFF_FILMS if f[0] in chosen]
     rows, load0 = [], os.getloadavg()[0]
-    n = len(films) * len(tols) * len(speeds) * len(forces)
+    n = len(films) * len(tols) * len(speeds) * len(forces) * len(mus)
     for name, prony in films:
-        for tol, force in ((t, f) for t in tols for f in forces):
-            kw = dict(indenter="sphere", force=force, mu=0.0, tol=tol, **FILM)
+        for tol, force, mu in ((t, f, m) for t in tols for f in forces for m in mus):
+            kw = dict(indenter="sphere", force=force, mu=mu, tol=tol, **FILM)
             for V in speeds:
-                row = {"film": name, "tol": tol, "force_N": force, "speed_m_per_s": V}
+                row = {"film": name, "tol": tol, "force_N": force, "mu": mu, "speed_m_per_s": V}
 
                 def pair(V=V, kw=kw, prony=prony):
                     el, r, (c_el, c_v), _ = _timed_pair(lambda: solve(**kw),
@@ -389,16 +393,20 @@ def part_sphere_beyond_cost(quick: bool, out, t0, tols=None, films=None,
                                                      else f"timeout after {value:.0f} s"}
                 row.setdefault("status", "ok")
                 rows.append(row)
-                progress(len(rows), n, f"{name} tol {tol:g} V={V:g}: {row['status'][:40]} "
+                progress(len(rows), n, f"{name} tol {tol:g} F {force:g} mu {mu:g} V={V:g}: "
+                         f"{row['status'][:40]} "
                          f"{row.get('time_ratio', math.nan):.2f}x", t0)
     keys = dict.fromkeys(k for row in rows for k in row)
     rows = [dict.fromkeys(keys, math.nan) | row for row in rows]
     tag = ("" if tols == (1e-2, 5e-3, 1e-3) else "_tol" + "_".join(f"{t:g}" for t in tols)) + \
         ("_" + "_".join(chosen) if chosen else "") + \
-        ("" if tuple(forces) == (1.0,) else "_F" + "_".join(f"{f:g}" for f in forces))
+        ("" if tuple(forces) == (1.0,) else "_F" + "_".join(f"{f:g}" for f in forces)) + \
+        ("" if tuple(mus) == (0.0,) else "_mu" + "_".join(f"{m:g}" for m in mus)) + \
+        ("" if speeds == _BEYOND_SPEEDS or quick else "_V" + "_".join(f"{v:g}" for v in speeds))
     table(rows, out / f"viscoelastic_sphere_beyond_cost{tag}.csv",
-          f"Viscoelastic sphere (F = {', '.join(f'{f:g}' for f in forces)} N, mu 0) on stiff "
-          f"SLS films (E_1 = 3, 10 E_inf, tau 10 ms) "
+          f"Viscoelastic sphere (F = {', '.join(f'{f:g}' for f in forces)} N, mu "
+          f"{', '.join(f'{m:g}' for m in mus)}) on the films "
+          f"{', '.join(name for name, _ in films)} (tau 10 ms) "
           f"against the elastic one (E_inf), CPU time ratio (fastest of 3 warm interleaved runs); "
           f"load average {load0:.1f} -> {os.getloadavg()[0]:.1f}")
     return rows

@@ -105,10 +105,7 @@ def _summary_text(r, view=None) -> str:
     if s["interface_law"] == "exponential":
         lines.append(f"  exponential interface    p0 = {s['interface_pressure_Pa']:g} Pa, lambda = "
                      f"{s['interface_length_m']:g} m; {r.info.get('width_definition', '')}")
-    if "speed_m_per_s" in s:  # issue 23: a viscoelastic film
-        lines.append(f"  viscoelastic film        V = {s['speed_m_per_s']:g} m/s, {len(s['prony_terms'])} "
-                     f"Prony term(s); mu_def = {s['deformation_friction']:.5g}, Q/P = mu + mu_def = "
-                     f"{s['Q_over_P']:.5g}")
+    lines += _visco_text(s)
     if "auto_reason" in r.info:
         lines.append(f"  auto: {r.info['auto_reason']}")
     grid = (f"{s['grid_points']} Nystrom nodes, profiles over {s['domain_length_m'] * mm:.2f} mm"
@@ -202,6 +199,15 @@ def _inputs(args) -> dict:
             "--apparatus-xz": getattr(args, "apparatus_xz", None)}
 
 
+def _visco_text(s) -> list:
+    """The viscoelastic film's line of a text summary (issue 23; none on an elastic film)."""
+    if "speed_m_per_s" not in s:
+        return []
+    return [f"  viscoelastic film        V = {s['speed_m_per_s']:g} m/s, {len(s['prony_terms'])} "
+            f"Prony term(s); mu_def = {s['deformation_friction']:.5g}, Q/P = mu + mu_def = "
+            f"{s['Q_over_P']:.5g}"]
+
+
 def _summary_text3d(r, sensor=None) -> str:
     s = r.summary()
     mm, kPa = 1e3, 1e-3
@@ -227,7 +233,7 @@ def _summary_text3d(r, sensor=None) -> str:
         f"{s['iterations']} iterations, residual {s['residual']:.1e}, error estimate "
         f"{s['error_estimate']:.1e}, solve {s['wall_time_s'] * 1e3:.0f} ms "
         f"(+ planning {s['plan_time_s'] * 1e3:.0f} ms)",
-    ]
+    ] + _visco_text(s)
     if sensor is not None:  # the sensor peaks, as in the line summary (x, y of each peak)
         import numpy as np
 

@@ -106,6 +106,13 @@ class Film:
         if self.young is not None:
             object.__setattr__(self, "young", option("young").check(self.young))
 
+    def scene_fields(self) -> dict:
+        """The scene fields this film stands for, when it is a kind the scene builds itself
+        (``Scene.core_film``; a ``ViscoelasticFilm``: thickness, young, poisson, speed, prony):
+        the scene then takes them instead of the object.  {}: the solvers take the film as it
+        is (the elastic film, a user's kind)."""
+        return {}
+
     def core(self) -> Film:
         """This film in the dimensionless core's units: thickness 1, stresses in G (the same
         kind, with the same extra fields)."""

@@ -42,6 +42,7 @@ from .scene_checks import (  # noqa: F401  (the checks, importable from here as 
     _check_viscoelastic,
     _custom,
     _take_film,
+    _take_film_fields,
     _warn_units,
     check_finite,
     check_poisson,
@@ -133,6 +134,7 @@ class Scene:
     dimension = "line"  # not a field: what the solvers dispatch on (Scene3D: "surface")
 
     def __post_init__(self):
+        _take_film_fields(self)
         _check_viscoelastic(self)
         _take_film(self)
         for name, value in _options.validate(self, "line").items():  # the table's bounds
@@ -377,6 +379,7 @@ class Scene3D:
     prony: tuple = ()
 
     def __post_init__(self):
+        _take_film_fields(self)
         _check_viscoelastic(self)
         _take_film(self)
         if self.indenter not in INDENTERS_3D:

@@ -115,6 +115,30 @@ def _check_law_scales(scene) -> None:
                              f"[{1 / LAW_SCALE_MAX:g}, {LAW_SCALE_MAX:g}]")
 
 
+def _take_film_fields(scene) -> None:
+    """A scene given a film kind that stands for scene fields (``Film.scene_fields``: a
+    ``ViscoelasticFilm``'s thickness, poisson, E_inf, Prony terms and speed [m/s]): they become
+    the scene's fields and the scene builds the film itself (one path: ``Scene.core_film``)."""
+    film = scene.film
+    if not isinstance(film, Film):
+        return  # (_take_film names the type)
+    fields = film.scene_fields()
+    if not fields:
+        return
+    for name, its in fields.items():
+        mine = getattr(scene, name)
+        if name in ("speed", "prony"):
+            if mine not in (0.0, (), None):
+                raise InputError(f"{named(name)} and {named('film')} ({type(film).__name__}) "
+                                 f"given both: give it once (in the film, or by name without "
+                                 f"film=)")
+        elif mine != its and mine != default(name):
+            raise InputError(f"{named(name)} = {mine:g} and {named('film')}.{name} = {its:g}: "
+                             f"give the film's {name} once, in the film")
+        object.__setattr__(scene, name, its)
+    object.__setattr__(scene, "film", None)
+
+
 def _take_film(scene) -> None:
     """A scene given ``film=``: its thickness, young and poisson are the film's (the scene's own
     fields left at their defaults, or equal)."""
@@ -153,7 +177,7 @@ def _check_law_and_film(scene) -> None:
         # sinking kinks under the shear step tau_0 at the edge (its shear kernel ~ sgn x)
         raise InputError(f"{named('shear_strength')} (tau_0) != 0 needs {named('poisson')} 0.5: "
                          "with the shear step at the contact edge the friction-law iteration does "
-                         f"not settle on a compressible film; got poisson {scene.poisson:g}")
+                         f"not settle on a compressible film; got poisson {scene.poisson:.10g}")
 
 
 def _check_viscoelastic(scene):
@@ -171,7 +195,7 @@ def _check_viscoelastic(scene):
     if check_poisson(scene.poisson) != 0.5:
         raise InputError(f"--prony needs --poisson 0.5 (the viscoelastic film is incompressible: "
                          f"with an elastic bulk modulus its symbol is not a scaling of the "
-                         f"elastic one); got --poisson {scene.poisson:g}")
+                         f"elastic one); got --poisson {scene.poisson:.10g}")
     if scene.friction_law != "amontons" or scene.interface_compliance or \
             getattr(scene, "interface_law", "linear") != "linear":
         raise InputError("--prony takes the Amontons friction law and a rigid interface only "
@@ -185,6 +209,25 @@ def _check_viscoelastic(scene):
         raise InputError(f"--speed and --mu both give the sliding direction: they must have the "
                          f"same sign (or one be 0); got --speed {v:g}, --mu {mu:g}")
     _check_visco_scales(scene, v)
+    _warn_inertia(scene, v)
+
+
+DENSITY_ASSUMED = 1000.0  # kg/m^3: elastomers and gels (PDMS 965), for the inertia warning only
+INERTIA_WARN = 0.1  # |V| / c_s from which the neglected inertia is flagged ((V/c_s)^2 ~ 1 %)
+
+
+def _warn_inertia(scene, v) -> None:
+    """The steady-sliding solve is quasi-static: a speed past INERTIA_WARN of the relaxed film's
+    shear-wave speed c_s = sqrt(E_inf / (3 rho)) (rho = DENSITY_ASSUMED) is flagged (a
+    UserWarning; the command line prints it as one line), not refused."""
+    import warnings
+
+    c_s = math.sqrt(scene.young / (3.0 * DENSITY_ASSUMED))
+    if abs(v) > INERTIA_WARN * c_s:
+        warnings.warn(f"--speed {v:g} m/s is {abs(v) / c_s:.2g} of the film's shear-wave speed "
+                      f"sqrt(E_inf/(3 rho)) = {c_s:.3g} m/s (rho = {DENSITY_ASSUMED:g} kg/m^3 "
+                      f"assumed): the solve neglects inertia (quasi-static film), whose effect "
+                      f"grows as (V/c_s)^2", UserWarning, stacklevel=4)
 
 
 PRONY_RATIO_RANGE = (1e-12, 1e12)

@@ -103,14 +103,19 @@ class ViscoelasticFilm(Film):
     ----------
     thickness : float
         h (the length unit of ``speed`` and of the wavenumbers' inverse).
-    relaxed_young : float
+    relaxed_young : float, optional
         E_inf, the relaxed Young's modulus (the unit of the compliances is 1/G_inf, G_inf =
-        E_inf/3: the elastic film's unit for E = E_inf; ``young`` stays the Film's, None in the
-        core).
+        E_inf/3: the elastic film's unit for E = E_inf).  Default: ``young`` (a scene's film:
+        ``young`` is E_inf, as the command line's --young), else 1 (the core).  Both given and
+        different: InputError.
     prony : tuple of (E_i, tau_i)
         Prony moduli (same unit as ``relaxed_young``) and relaxation times [s].
     speed : float
-        V [thickness units / s], signed: > 0 the indenter slides toward +x.
+        V [thickness's unit / s], signed: > 0 the indenter slides toward +x.  A scene's film
+        (``solve(film=ViscoelasticFilm(thickness=2e-3, young=2.2e6, prony=((2.2e6, 0.01),),
+        speed=0.05))``: thickness [m], young = E_inf and E_i [Pa], speed [m/s]) becomes the
+        scene's own young, prony and speed (``Scene(young=, prony=, speed=)``, the same solve
+        bit for bit); in the core (thickness 1) V is in h/s.
 
     ``speed == 0`` or no terms: the symbols are those of the elastic film of modulus E_inf
     (R = 1 exactly; the solvers then use ``Film`` itself, bit for bit).
@@ -124,16 +129,36 @@ class ViscoelasticFilm(Film):
     period held the tail: the period effect beyond the estimate in studies/README.)
     """
 
-    relaxed_young: float = 1.0
+    relaxed_young: float | None = None
     prony: tuple = ()
     speed: float = 0.0
 
     def __post_init__(self):
         super().__post_init__()
+        if self.relaxed_young is None:  # E_inf is the film's Young modulus (1 in the core)
+            object.__setattr__(self, "relaxed_young", 1.0 if self.young is None else self.young)
+        elif self.young is not None and self.relaxed_young != self.young:
+            raise InputError(f"ViscoelasticFilm: young is the relaxed modulus E_inf (as --young); "
+                             f"got young {self.young:g} and relaxed_young {self.relaxed_young:g}: "
+                             f"give one of them")
+        if not (self.relaxed_young > 0.0 and math.isfinite(self.relaxed_young)):
+            raise InputError(f"ViscoelasticFilm: relaxed_young (E_inf) must be > 0 and finite; "
+                             f"got {self.relaxed_young!r}")
         if not self.incompressible:
             raise InputError(f"--prony needs --poisson 0.5 (an incompressible film); got "
-                             f"poisson {self.poisson:g}")
+                             f"poisson {self.poisson:.10g}")
         object.__setattr__(self, "prony", check_prony(self.prony))
+
+    def scene_fields(self) -> dict:
+        """A scene's film (``solve(film=...)``): its thickness [m], E_inf [Pa] (``young``),
+        poisson, speed [m/s] and Prony terms, as the scene's own fields (``Film.scene_fields``:
+        the scene builds the same film, ``Scene.core_film``)."""
+        if self.young is None:
+            raise InputError("film: a scene's viscoelastic film needs young = E_inf [Pa] (the "
+                             "relaxed modulus): ViscoelasticFilm(thickness=h [m], young=E_inf "
+                             "[Pa], prony=((E_1 [Pa], tau_1 [s]), ...), speed=V [m/s])")
+        return {"thickness": self.thickness, "young": self.young, "poisson": self.poisson,
+                "speed": self.speed, "prony": self.prony}
 
     # --- the material ---------------------------------------------------------------------------
     @property

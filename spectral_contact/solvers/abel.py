@@ -569,7 +569,7 @@ class AbelMethod(Method):
     def solve(self, scene: Scene, model: str) -> ContactResult:
         if scene.poisson != 0.5:
             raise InputError(f"method abel is for the incompressible film (poisson 0.5) only; got "
-                             f"poisson {scene.poisson:g}: use method fft")
+                             f"poisson {scene.poisson:.10g}: use method fft")
         if not scene.friction.is_amontons:
             raise InputError(f"method abel solves Amontons friction only; got friction law "
                              f"{scene.friction_law}: use method fft")

@@ -3,6 +3,7 @@ the one driver (``fft_driver.run``) on a line (``solvers.fft.solve_fft``) or a s
 (``solvers.fft3d.solve_fft3d``)."""
 from __future__ import annotations
 
+from ..errors import ConvergenceError
 from .base import Method, register
 from .fft import MAX_POINTS, MIN_POINTS, solve_fft  # noqa: F401 (importable from here)
 from .fft3d import solve_fft3d
@@ -30,8 +31,42 @@ class FFTMethod(Method):
         """A ContactResult for a plane-strain ``Scene``; a ContactResult3D for a ``Scene3D``
         (the driver of the scene's ``dimension``; each checks its own ``grid_points`` and
         ``domain_length``)."""
-        return _DRIVERS[scene.dimension](scene, self.check_model(model), self.tol,
-                                         self.grid_points, self.domain_length, progress=progress)
+        try:
+            return _DRIVERS[scene.dimension](scene, self.check_model(model), self.tol,
+                                             self.grid_points, self.domain_length,
+                                             progress=progress)
+        except ConvergenceError as exc:
+            note = _beyond_verified(scene)
+            if note is None:
+                raise
+            raise ConvergenceError(f"{exc} ({note})", exc.residuals, exc.iterations) from None
+
+
+def _verified_weight(dimension: str) -> float:
+    """The heaviest Prony term E_i/E_inf the viscoelastic solves are verified for: lines, the
+    trailing edges' layer fit (``solvers.fft._LineSolve.LAYER_FITTED_WEIGHT``); surfaces, the
+    fits' E_0/E_inf (``solvers.fft3d._FITTED_MIN_RATIO``).  Heavier terms (rubber-like films,
+    E_0/E_inf ~ 1e2 - 1e3) have their edge structure resolved and may not converge (exit 3):
+    behind the trailing edge gap and pressure both stay ~0 over the long relaxation tail and
+    the active set keeps changing there (studies/README, viscoelastic, rubber-like films)."""
+    from .fft import _LineSolve
+    from .fft3d import _FITTED_MIN_RATIO
+
+    return _LineSolve.LAYER_FITTED_WEIGHT if dimension == "line" else 1.0 / _FITTED_MIN_RATIO - 1.0
+
+
+def _beyond_verified(scene):
+    """What a non-converged viscoelastic solve should be told: its heaviest Prony term, where
+    it passes VERIFIED_PRONY_WEIGHT; else None."""
+    if not scene.prony or scene.speed == 0.0:
+        return None
+    w, top = max(e for e, _ in scene.prony) / scene.young, _verified_weight(scene.dimension)
+    if w <= top * (1.0 + 1e-9):
+        return None
+    return (f"a Prony term E_i/E_inf = {w:.3g}, beyond the {top:.3g} the "
+            f"viscoelastic solver is verified for: on films this much stiffer when glassy the "
+            f"active set behind the trailing edge may not settle; a lower --speed (slow sliding) "
+            f"or a higher one (the glassy film) may solve")
 
 
 _DRIVERS = {"line": solve_fft, "surface": solve_fft3d}

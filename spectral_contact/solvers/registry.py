@@ -60,7 +60,7 @@ def _solve_surface(scene: Scene3D, model, method, tol, grid_points, domain_lengt
     if model == "hertz":
         if scene.poisson != 0.5:
             raise InputError(f"model hertz is the incompressible half-space (poisson 0.5) only; "
-                             f"got poisson {scene.poisson:g}: use model exact or goodman")
+                             f"got poisson {scene.poisson:.10g}: use model exact or goodman")
         return solve_hertz3d(scene, solver.tol, grid_points, domain_length)
     return solver.solve(scene, model)
 
@@ -70,7 +70,7 @@ def _solve_line(scene: Scene, model, method, tol, grid_points, domain_length, cu
     solver = make_method(method, tol, grid_points, domain_length)
     if scene.poisson != 0.5 and model == "hertz":
         raise InputError(f"model hertz is the incompressible half-space (poisson 0.5) only; got "
-                         f"poisson {scene.poisson:g}: use model exact or goodman")
+                         f"poisson {scene.poisson:.10g}: use model exact or goodman")
     if not scene.friction.is_amontons and model == "hertz":
         raise InputError(f"model hertz takes Amontons friction only; got friction law "
                          f"{scene.friction_law}: use model exact or goodman")
@@ -87,7 +87,7 @@ def _solve_line(scene: Scene, model, method, tol, grid_points, domain_length, cu
     s = hertz_half_width(scene.P)
     if scene.poisson != 0.5 or not scene.friction.is_amontons or soft or custom:
         # the bounds were fitted on incompressible films with Amontons friction only
-        why = (custom if custom else f"poisson {scene.poisson:g} < 0.5" if scene.poisson != 0.5 else
+        why = (custom if custom else f"poisson {scene.poisson:.10g} < 0.5" if scene.poisson != 0.5 else
                f"friction law {scene.friction_law}" if not scene.friction.is_amontons else
                "a compliant interface")
         r = solver.solve(scene, "exact")
