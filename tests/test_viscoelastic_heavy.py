@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from spectral_contact import solve
+from spectral_contact.errors import ConvergenceError
 from spectral_contact.numerics import edges
 
 E_INF = 2.2e6
@@ -204,3 +205,32 @@ def test_heavy_weights_option_refuses_bad_input(tmp_path, capsys):
             main(["--parts", "heavy_offset", "--heavy-weights", bad, "--out", str(tmp_path)])
         assert exc.value.code == 2
         assert "--heavy-weights must be" in capsys.readouterr().err
+
+
+def test_a_travelling_active_set_defect_is_filled_at_once(monkeypatch):
+    """E_1 = 30 E_inf on the paper's scene at 50 um/s, a fixed 2^14-point grid on the elastic
+    period: on the 8192-point level an odd-even pair of holes enters the active set at the
+    leading edge and moves in by two nodes per step (~470 steps to cross the contact).  Before,
+    the 200-step limit stopped it: exit 3.  Now its holes are filled once the travel is seen
+    (``numerics.contact._Travelling``): the solve is the one that 3000 allowed steps reach
+    (the same contiguous sets), to round-off."""
+    import spectral_contact.numerics.contact as contact
+    from studies.viscoelastic import FILM
+
+    L = solve(load=200.0, mu=2.0, tol=1e-4, **FILM).domain_length * FILM["thickness"]
+    kw = dict(load=200.0, mu=2.0, speed=5e-5, prony=((30 * E_INF, TAU),), grid_points=2**14,
+              domain_length=L, **FILM)
+    fast = solve(**kw)
+    monkeypatch.setattr(contact._Travelling, "TRAVEL_STEPS", 10**9)  # (never fills: before)
+    with pytest.raises(ConvergenceError, match="did not settle in 200"):
+        solve(**kw)
+    original = contact.solve_complementarity
+
+    def patient(*args, **options):
+        options["max_outer"] = 3000
+        return original(*args, **options)
+
+    monkeypatch.setattr(contact, "solve_complementarity", patient)
+    slow = solve(**kw)
+    assert fast.half_width == pytest.approx(slow.half_width, rel=1e-12)
+    assert np.max(np.abs(fast.pressure - slow.pressure)) < 1e-9 * np.max(slow.pressure)
