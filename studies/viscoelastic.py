@@ -402,7 +402,8 @@ def part_sphere_beyond_cost(quick: bool, out, t0, tols=None, films=None,
         ("_" + "_".join(chosen) if chosen else "") + \
         ("" if tuple(forces) == (1.0,) else "_F" + "_".join(f"{f:g}" for f in forces)) + \
         ("" if tuple(mus) == (0.0,) else "_mu" + "_".join(f"{m:g}" for m in mus)) + \
-        ("" if speeds == _BEYOND_SPEEDS or quick else "_V" + "_".join(f"{v:g}" for v in speeds))
+        ("" if tuple(speeds) in (_BEYOND_SPEEDS, (1e-3, 3e-2)) else
+         "_V" + "_".join(f"{v:g}" for v in speeds))
     table(rows, out / f"viscoelastic_sphere_beyond_cost{tag}.csv",
           f"Viscoelastic sphere (F = {', '.join(f'{f:g}' for f in forces)} N, mu "
           f"{', '.join(f'{m:g}' for m in mus)}) on the films "

@@ -127,6 +127,7 @@ def _run(args, out, tol: float) -> None:
             except (ConvergenceError, InputError) as exc:  # a row that says so (stiff films)
                 rows.append({"scene": name, "speed_m_per_s": V,
                              "V_tau_over_h": V * prony[0][1] / FILM["thickness"],
+                             "met_3x": False,
                              "status": f"{type(exc).__name__}: {str(exc).splitlines()[0][:90]}"})
                 progress(len(rows), n, f"{name} V={V:.1e}: {rows[-1]['status'][:60]}", t0)
                 continue
@@ -156,7 +157,8 @@ def _run(args, out, tol: float) -> None:
                 "grid_points_ratio_to_glassy": r.grid_points / eg.grid_points, "status": "ok"})
             progress(len(rows), n, f"{name} V={V:.1e}: {ratio:.2f}x", t0)
     load1 = os.getloadavg()[0]
-    keys = dict.fromkeys(k for row in rows for k in row)  # refused rows: the columns as nan
+    # refused rows: the other columns nan, in a solved row's order
+    keys = dict.fromkeys(k for row in sorted(rows, key=lambda r: r["status"] != "ok") for k in row)
     rows = [dict.fromkeys(keys, math.nan) | row for row in rows]
     name = "viscoelastic_cost" + ("" if args.film == "SLS" else f"_{args.film}")
     name += "" if tol == 1e-3 else f"_tol{tol:.0e}"

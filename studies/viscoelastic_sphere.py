@@ -18,7 +18,7 @@ levels  the automatic solve's levels (locator, period, grids: ``solvers.fft3d``)
         finest level's grid times 2 per axis, the levels' difference (the estimate) and the
         shift difference.  Which error the estimate carries, and whether the grid the elastic
         sphere stops on is within tol for the viscoelastic one (the 1 N frictionless sphere at
-        1 cm/s, SLS: ``viscoelastic_sphere_levels.csv``).
+        1 cm/s, SLS: ``viscoelastic_sphere_levels_V0.01_mu0.csv``).
 """
 from __future__ import annotations
 
@@ -35,6 +35,7 @@ from ._common import parse, progress, table
 from .viscoelastic import FILM, SLS, part_sphere_beyond_cost
 
 PARTS = ("cost", "levels")
+FILMS = ("SLS", "tan0.1", "E1=3Einf", "E1=10Einf")  # part_sphere_beyond_cost's names
 SPEEDS = (1e-4, 1e-3, 1e-2, 5e-2, 0.1, 0.2, 0.3, 1.0)
 _MEASURES = ("radius", "x_c", "d", "line_load_y0", "p_max")
 
@@ -107,7 +108,7 @@ def main(argv=None) -> int:
         p.add_argument("--mus", default="2,0", help="cost: friction coefficients (default 2,0)")
         p.add_argument("--forces", default="1", help="cost: loads [N] (default 1)")
         p.add_argument("--speeds", default=",".join(f"{v:g}" for v in SPEEDS),
-                       help="cost: speeds [m/s]; levels: the first of them unless --level-speed")
+                       help="cost: speeds [m/s] (--quick: the first two)")
         p.add_argument("--level-speed", default="0.01", help="levels: the speed [m/s]")
 
     args, out = parse(argv, __doc__.splitlines()[0], "out/viscoelastic", extra=extra)
@@ -116,13 +117,17 @@ def main(argv=None) -> int:
         print(f"--parts must be a comma list of {', '.join(PARTS)}; got {args.parts!r}",
               file=sys.stderr)
         return 2
+    films = [f for f in args.films.split(",") if f]
+    if not films or any(f not in FILMS for f in films):
+        print(f"--films must be a comma list of {', '.join(FILMS)}; got {args.films!r}",
+              file=sys.stderr)
+        return 2
     mus, forces = _floats(args.mus, "mus"), _floats(args.forces, "forces", 1e-300)
     speeds = _floats(args.speeds, "speeds", 1e-300)
     level_speed = _floats(args.level_speed, "level-speed")[0]
     t0 = time.perf_counter()
     if "cost" in parts:
-        part_sphere_beyond_cost(args.quick, out, t0, (1e-3,),
-                                [f for f in args.films.split(",") if f],
+        part_sphere_beyond_cost(args.quick, out, t0, (1e-3,), films,
                                 forces, mus, speeds[:2] if args.quick else speeds)
     if "levels" in parts:
         part_levels(args.quick, out, t0, level_speed, 0.0)

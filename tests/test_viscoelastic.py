@@ -960,3 +960,32 @@ def test_speeds_near_the_shear_wave_speed_are_flagged():
         Scene(speed=10.0, prony=SLS)
         Scene(speed=-2.0, mu=-1.0, prony=SLS)
     assert len(seen) == 1 and "0.37 of the film's shear-wave speed" in str(seen[0].message)
+
+
+def test_film_object_edge_cases_and_the_heavy_note():
+    """(Review of the ninth session.)  A ViscoelasticFilm whose Prony moduli all look relative
+    to E_inf (below 1e-3 young: E_inf defaulted to 1 before) warns; dataclasses.replace of
+    young alone is refused with the way out, relaxed_young=None follows young; the non-
+    convergence note counts a line's heaviest term but a surface's sum (its fits are bounded by
+    E_0/E_inf); the sphere study's unknown film: exit 2."""
+    import dataclasses
+    import warnings
+
+    from spectral_contact.physics.scene import Scene3D
+    from spectral_contact.solvers.fft_method import _beyond_verified
+    from studies.viscoelastic_sphere import main as sphere_main
+
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        ViscoelasticFilm(thickness=2e-3, young=2.2e6, prony=((1.0, 0.01),), speed=0.05)
+        ViscoelasticFilm(thickness=2e-3, young=2.2e6, prony=((2.2e6, 0.01),), speed=0.05)
+    assert len(seen) == 1 and "not relative to E_inf" in str(seen[0].message)
+    f = ViscoelasticFilm(thickness=2e-3, young=2.2e6, prony=((2.2e6, 0.01),))
+    with pytest.raises(InputError, match="relaxed_young=None"):
+        dataclasses.replace(f, young=3e6)
+    assert dataclasses.replace(f, young=3e6, relaxed_young=None).relaxed_young == 3e6
+    two = ((6 * 2.2e6, 0.01), (6 * 2.2e6, 0.1))
+    assert _beyond_verified(Scene(speed=0.01, prony=two)) is None  # each 6 <= 10
+    note = _beyond_verified(Scene3D(indenter="sphere", speed=0.01, prony=two))
+    assert note is not None and "sum E_0/E_inf - 1 = 12" in note
+    assert sphere_main(["--films", "SLS,foo", "--parts", "cost"]) == 2

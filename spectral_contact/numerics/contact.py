@@ -473,7 +473,8 @@ def solve_complementarity(op: FourierOperator, f: np.ndarray, owner: np.ndarray,
             # where gap and pressure both stay ~0 over the relaxation tail and the sets swap
             # neighbouring nodes (odd-even): the shared nodes' state passes at 1e-8
             # penetration (tests/test_viscoelastic_heavy.py); a state the check would accept
-            # is kept as before (bit for bit).
+            # is kept as before (bit for bit: the contact solve's accepted states; a caller
+            # that retried after a refusal may now take the rescued state instead).
             if fallbacks and max(_residuals(B, on, p, w, gap, active, history).values()) > limit:
                 kind = fallbacks.pop(0)
                 new = (active & new) if kind == "meet" else (active | new)

@@ -128,7 +128,8 @@ def _take_film_fields(scene) -> None:
     for name, its in fields.items():
         mine = getattr(scene, name)
         if name in ("speed", "prony"):
-            if mine not in (0.0, (), None):
+            given = mine is not None and (len(mine) > 0 if name == "prony" else mine != 0.0)
+            if given:
                 raise InputError(f"{named(name)} and {named('film')} ({type(film).__name__}) "
                                  f"given both: give it once (in the film, or by name without "
                                  f"film=)")
@@ -227,7 +228,7 @@ def _warn_inertia(scene, v) -> None:
         warnings.warn(f"--speed {v:g} m/s is {abs(v) / c_s:.2g} of the film's shear-wave speed "
                       f"sqrt(E_inf/(3 rho)) = {c_s:.3g} m/s (rho = {DENSITY_ASSUMED:g} kg/m^3 "
                       f"assumed): the solve neglects inertia (quasi-static film), whose effect "
-                      f"grows as (V/c_s)^2", UserWarning, stacklevel=4)
+                      f"grows as (V/c_s)^2", UserWarning, stacklevel=5)
 
 
 PRONY_RATIO_RANGE = (1e-12, 1e12)

@@ -137,10 +137,19 @@ class ViscoelasticFilm(Film):
         super().__post_init__()
         if self.relaxed_young is None:  # E_inf is the film's Young modulus (1 in the core)
             object.__setattr__(self, "relaxed_young", 1.0 if self.young is None else self.young)
+            if self.young is not None and self.prony and \
+                    max(e for e, _ in check_prony(self.prony)) < 1e-3 * self.young:
+                # (before the ninth session E_inf defaulted to 1 here: moduli relative to it)
+                import warnings
+
+                warnings.warn(f"ViscoelasticFilm: every Prony modulus is below 1e-3 of young = "
+                              f"E_inf = {self.young:g}; they are in young's unit (Pa), not "
+                              f"relative to E_inf", UserWarning, stacklevel=3)
         elif self.young is not None and self.relaxed_young != self.young:
             raise InputError(f"ViscoelasticFilm: young is the relaxed modulus E_inf (as --young); "
                              f"got young {self.young:g} and relaxed_young {self.relaxed_young:g}: "
-                             f"give one of them")
+                             f"give one of them (dataclasses.replace: both, or relaxed_young="
+                             f"None to follow young)")
         if not (self.relaxed_young > 0.0 and math.isfinite(self.relaxed_young)):
             raise InputError(f"ViscoelasticFilm: relaxed_young (E_inf) must be > 0 and finite; "
                              f"got {self.relaxed_young!r}")

@@ -39,7 +39,7 @@ class FFTMethod(Method):
             note = _beyond_verified(scene)
             if note is None:
                 raise
-            raise ConvergenceError(f"{exc} ({note})", exc.residuals, exc.iterations) from None
+            raise ConvergenceError(f"{exc} ({note})", exc.residuals, exc.iterations) from exc
 
 
 def _verified_weight(dimension: str) -> float:
@@ -56,14 +56,18 @@ def _verified_weight(dimension: str) -> float:
 
 
 def _beyond_verified(scene):
-    """What a non-converged viscoelastic solve should be told: its heaviest Prony term, where
-    it passes VERIFIED_PRONY_WEIGHT; else None."""
+    """What a non-converged viscoelastic solve should be told: its Prony weight beyond the
+    verified one (``_verified_weight``; lines: the heaviest term's E_i/E_inf, surfaces: their
+    sum, E_0/E_inf - 1, as the surfaces' fits are bounded); else None."""
     if not scene.prony or scene.speed == 0.0:
         return None
-    w, top = max(e for e, _ in scene.prony) / scene.young, _verified_weight(scene.dimension)
+    moduli = [e / scene.young for e, _ in scene.prony]
+    line = scene.dimension == "line"
+    w, top = (max(moduli) if line else sum(moduli)), _verified_weight(scene.dimension)
     if w <= top * (1.0 + 1e-9):
         return None
-    return (f"a Prony term E_i/E_inf = {w:.3g}, beyond the {top:.3g} the "
+    what = "a Prony term E_i/E_inf" if line else "the Prony terms' sum E_0/E_inf - 1"
+    return (f"{what} = {w:.3g}, beyond the {top:.3g} the "
             f"viscoelastic solver is verified for: on films this much stiffer when glassy the "
             f"active set behind the trailing edge may not settle; a lower --speed (slow sliding) "
             f"or a higher one (the glassy film) may solve")
