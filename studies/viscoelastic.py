@@ -941,30 +941,27 @@ PARTS = ("speed", "sphere", "sphere_cost", "sphere_fitted", "sphere_beyond_cost"
          "heavy_terms", "heavy_offset")
 
 
-def _forces(text: str) -> tuple:
-    """'0.8,1' -> (0.8, 1.0); one line and exit 2 unless each is a number > 0."""
+def _positive_list(text: str, option: str, what: str) -> tuple:
+    """'0.8,1' -> (0.8, 1.0); one line naming ``option`` and exit 2 unless each is a finite
+    number > 0 (``what``: how the message names them)."""
     try:
-        forces = tuple(float(f) for f in text.split(","))
+        values = tuple(float(v) for v in text.split(","))
     except ValueError:
-        forces = ()
-    if not forces or not all(0.0 < f < math.inf for f in forces):
-        print(f"--sphere-forces must be a comma list of loads > 0 [N]; got {text!r}",
-              file=sys.stderr)
+        values = ()
+    if not values or not all(0.0 < v < math.inf for v in values):
+        print(f"{option} must be a comma list of {what}; got {text!r}", file=sys.stderr)
         raise SystemExit(2)
-    return forces
+    return values
+
+
+def _forces(text: str) -> tuple:
+    """--sphere-forces: loads [N]."""
+    return _positive_list(text, "--sphere-forces", "loads > 0 [N]")
 
 
 def _weights(text: str) -> tuple:
-    """'30,100' -> (30.0, 100.0); one line and exit 2 unless each is a number > 0."""
-    try:
-        weights = tuple(float(w) for w in text.split(","))
-    except ValueError:
-        weights = ()
-    if not weights or not all(0.0 < w < math.inf for w in weights):
-        print(f"--heavy-weights must be a comma list of weights E_1/E_inf > 0; got {text!r}",
-              file=sys.stderr)
-        raise SystemExit(2)
-    return weights
+    """--heavy-weights: E_1/E_inf of single Prony terms."""
+    return _positive_list(text, "--heavy-weights", "weights E_1/E_inf > 0")
 
 
 def main(argv=None) -> int:
