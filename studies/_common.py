@@ -10,6 +10,20 @@ import time
 from pathlib import Path
 
 
+def float_list(text: str, option: str, what: str, zero: bool = False) -> tuple:
+    """'0.8,1' -> (0.8, 1.0); one line naming ``option`` and exit 2 unless each is a finite
+    number > 0 (>= 0 with ``zero``); ``what``: how the message names them."""
+    try:
+        values = tuple(float(v) for v in text.split(","))
+    except ValueError:
+        values = ()
+    if not values or not all((0.0 <= v if zero else 0.0 < v) and v < float("inf")
+                             for v in values):
+        print(f"{option} must be a comma list of {what}; got {text!r}", file=sys.stderr)
+        raise SystemExit(2)
+    return values
+
+
 def parse(argv, description: str, default_out: str, engine: bool = False, extra=None):
     """Arguments --quick, --out; with ``engine`` also --workers N / --serial (studies whose
     points run through ``spectral_contact.sweep.map_tasks``); ``extra(parser)`` adds a study's

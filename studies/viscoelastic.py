@@ -97,7 +97,7 @@ from spectral_contact.reference.sls_halfspace import sls_halfspace_contact
 from spectral_contact.solvers.fft import solve_fft
 from spectral_contact.solvers.visco_slow import edge_amplitudes
 
-from ._common import parse, progress, table
+from ._common import float_list, parse, progress, table
 
 E_INF = 2.2e6
 TAU = 0.01
@@ -941,27 +941,14 @@ PARTS = ("speed", "sphere", "sphere_cost", "sphere_fitted", "sphere_beyond_cost"
          "heavy_terms", "heavy_offset")
 
 
-def _positive_list(text: str, option: str, what: str) -> tuple:
-    """'0.8,1' -> (0.8, 1.0); one line naming ``option`` and exit 2 unless each is a finite
-    number > 0 (``what``: how the message names them)."""
-    try:
-        values = tuple(float(v) for v in text.split(","))
-    except ValueError:
-        values = ()
-    if not values or not all(0.0 < v < math.inf for v in values):
-        print(f"{option} must be a comma list of {what}; got {text!r}", file=sys.stderr)
-        raise SystemExit(2)
-    return values
-
-
 def _forces(text: str) -> tuple:
     """--sphere-forces: loads [N]."""
-    return _positive_list(text, "--sphere-forces", "loads > 0 [N]")
+    return float_list(text, "--sphere-forces", "loads > 0 [N]")
 
 
 def _weights(text: str) -> tuple:
     """--heavy-weights: E_1/E_inf of single Prony terms."""
-    return _positive_list(text, "--heavy-weights", "weights E_1/E_inf > 0")
+    return float_list(text, "--heavy-weights", "weights E_1/E_inf > 0")
 
 
 def main(argv=None) -> int:

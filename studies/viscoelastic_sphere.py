@@ -31,7 +31,7 @@ from spectral_contact.numerics.grid import Grid
 from spectral_contact.solvers import fft3d
 from spectral_contact.solvers.fft_driver import Problem
 
-from ._common import parse, progress, table
+from ._common import float_list, parse, progress, table
 from .viscoelastic import FILM, SLS, part_sphere_beyond_cost
 
 PARTS = ("cost", "levels")
@@ -89,17 +89,6 @@ def part_levels(quick: bool, out, t0, speed=1e-2, mu=0.0, force=1.0, prony=SLS) 
     return rows
 
 
-def _floats(text: str, name: str, lo: float = 0.0) -> tuple:
-    try:
-        vals = tuple(float(v) for v in text.split(","))
-    except ValueError:
-        vals = ()
-    if not vals or not all(lo <= v < math.inf for v in vals):
-        print(f"--{name} must be a comma list of numbers >= {lo:g}; got {text!r}", file=sys.stderr)
-        raise SystemExit(2)
-    return vals
-
-
 def main(argv=None) -> int:
     def extra(p):
         p.add_argument("--parts", default="cost,levels", help="comma list of cost, levels")
@@ -122,9 +111,10 @@ def main(argv=None) -> int:
         print(f"--films must be a comma list of {', '.join(FILMS)}; got {args.films!r}",
               file=sys.stderr)
         return 2
-    mus, forces = _floats(args.mus, "mus"), _floats(args.forces, "forces", 1e-300)
-    speeds = _floats(args.speeds, "speeds", 1e-300)
-    level_speed = _floats(args.level_speed, "level-speed")[0]
+    mus = float_list(args.mus, "--mus", "numbers >= 0", zero=True)
+    forces = float_list(args.forces, "--forces", "numbers > 0")
+    speeds = float_list(args.speeds, "--speeds", "numbers > 0")
+    level_speed = float_list(args.level_speed, "--level-speed", "numbers >= 0", zero=True)[0]
     t0 = time.perf_counter()
     if "cost" in parts:
         part_sphere_beyond_cost(args.quick, out, t0, (1e-3,), films,
