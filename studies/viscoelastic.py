@@ -318,6 +318,8 @@ def part_sphere_fitted(quick: bool, out, t0, films=None) -> list[dict]:
 
 
 STIFF_FILMS = (("E1=3Einf", ((3 * E_INF, TAU),)), ("E1=10Einf", ((10 * E_INF, TAU),)))
+TAN01 = ((sls_for_peak_loss(0.1) * E_INF, TAU),)  # the claim part's SLS: peak loss tangent 0.1
+SPHERE_FILMS = (("SLS", SLS), ("tan0.1", TAN01)) + STIFF_FILMS  # sphere_beyond_cost's names
 _BEYOND_SPEEDS = (1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2)
 _BEYOND_TIMEOUT = 300.0  # s per (elastic, viscoelastic) timed pair; past it: a "timeout" row
 
@@ -367,8 +369,7 @@ def part_sphere_beyond_cost(quick: bool, out, t0, tols=None, films=None,
     chosen = films
     films = STIFF_FILMS[:1] if quick else STIFF_FILMS
     if chosen:  # --sphere-films (also the SLS, for comparison)
-        tan01 = ((sls_for_peak_loss(0.1) * E_INF, TAU),)
-        films = [f for f in (("SLS", SLS), ("tan0.1", tan01)) + STIFF_FILMS if f[0] in chosen]
+        films = [f for f in SPHERE_FILMS if f[0] in chosen]
     rows, load0 = [], os.getloadavg()[0]
     n = len(films) * len(tols) * len(speeds) * len(forces) * len(mus)
     for name, prony in films:

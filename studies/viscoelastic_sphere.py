@@ -32,10 +32,10 @@ from spectral_contact.solvers import fft3d
 from spectral_contact.solvers.fft_driver import Problem
 
 from ._common import float_list, parse, progress, table
-from .viscoelastic import FILM, SLS, part_sphere_beyond_cost
+from .viscoelastic import FILM, SLS, SPHERE_FILMS, part_sphere_beyond_cost
 
 PARTS = ("cost", "levels")
-FILMS = ("SLS", "tan0.1", "E1=3Einf", "E1=10Einf")  # part_sphere_beyond_cost's names
+FILMS = tuple(name for name, _ in SPHERE_FILMS)  # part_sphere_beyond_cost's
 SPEEDS = (1e-4, 1e-3, 1e-2, 5e-2, 0.1, 0.2, 0.3, 1.0)
 _MEASURES = ("radius", "x_c", "d", "line_load_y0", "p_max")
 
