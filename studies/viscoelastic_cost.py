@@ -122,8 +122,11 @@ def _run(args, out, tol: float) -> None:
     load0 = os.getloadavg()[0]
     for name, load, mu in scenes:
         for V in speeds:
-            try:
-                r = solve(load=load, mu=mu, speed=V, prony=prony, tol=tol, **FILM)
+            try:  # (the pair's warm-up solve is the first to fail)
+                el, r, (c_el, c_v), (t_el, t_v) = _timed_pair(
+                    lambda: solve(load=load, mu=mu, tol=tol, **FILM),
+                    lambda: solve(load=load, mu=mu, speed=V, prony=prony, tol=tol, **FILM),
+                    prepare=_forget_symbols if args.cold else None)
             except (ConvergenceError, InputError) as exc:  # a row that says so (stiff films)
                 rows.append({"scene": name, "speed_m_per_s": V,
                              "V_tau_over_h": V * prony[0][1] / FILM["thickness"],
@@ -131,10 +134,6 @@ def _run(args, out, tol: float) -> None:
                              "status": f"{type(exc).__name__}: {str(exc).splitlines()[0][:90]}"})
                 progress(len(rows), n, f"{name} V={V:.1e}: {rows[-1]['status'][:60]}", t0)
                 continue
-            el, r, (c_el, c_v), (t_el, t_v) = _timed_pair(
-                lambda: solve(load=load, mu=mu, tol=tol, **FILM),
-                lambda: solve(load=load, mu=mu, speed=V, prony=prony, tol=tol, **FILM),
-                prepare=_forget_symbols if args.cold else None)
             ratio = c_v / c_el
             # the glassy film's elastic solve (E_0 = E_inf + sum E_i): at high speed the
             # viscoelastic contact is that one's, smaller than the relaxed one (a column
