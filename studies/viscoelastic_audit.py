@@ -323,9 +323,12 @@ def main(argv=None) -> int:
     t0 = time.perf_counter()
     rows = []
 
+    done = []  # (scenes finished: the progress count, also from --jobs threads)
+
     def one(sc):
         row = run(sc, args.quick, args.timeout)
-        progress(len(rows) + 1, len(todo), f"#{sc['i']} {sc['kind']} tol {sc['kw']['tol']:g} "
+        done.append(sc["i"])
+        progress(len(done), len(todo), f"#{sc['i']} {sc['kind']} tol {sc['kw']['tol']:g} "
                  f"V {sc['kw']['speed']:.2g}: {row['status'][:50]} "
                  f"{row.get('true_error', math.nan):.2g} / "
                  f"{row.get('error_estimate', math.nan):.2g}", t0)
