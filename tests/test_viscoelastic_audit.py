@@ -43,3 +43,33 @@ def test_audit_quick(tmp_path):
         assert float(r["true_error"]) <= float(r["error_estimate"])
         assert float(r["QP_identity"]) < 1e-12
         assert float(r["mirror_change"]) < 1e-9
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "a surface's estimate is the last two levels' difference; the line load at y = 0 (a node "
+    "sum over a row with square-root edges) errs by where the edges fall in their cells, not "
+    "monotonically in the cell, so two levels can agree closer than the finer one's error: "
+    "3.8-4.1e-4 off under 1.79e-4 (2.2x); studies/README, audit (tenth session)"))
+def test_elastic_sphere_line_load_within_its_estimate():
+    """The elastic sphere, F = 0.3 N, mu 0, tol 1e-3: the solve stops on 512^2 (levels 256^2,
+    512^2) with line load at y = 0 118.6787 N/m under an estimate of 1.79e-4; fixed grids on
+    the solve's period give 118.7234 (1024^2), 118.7275 (1536^2), 118.7257 (2048^2): 3.8-4.1e-4
+    off (radius, centroid, d, p_max within 4.4e-5)."""
+    r = solve(indenter="sphere", force=0.3, mu=0.0, tol=1e-3)
+    assert r.grid_points == (512, 512)
+    ref = 118.7257  # 2048^2 on the solve's period (1024^2 .. 2048^2 within 3.5e-5 of it)
+    assert abs(r.summary()["line_load_y0_N_per_m"] - ref) / ref <= r.error_estimate
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "as the elastic sphere's: the line load at y = 0 is 1.6-2.2e-4 off under an estimate of "
+    "1.17e-4 (the audit's scene 44); studies/README, audit (tenth session)"))
+def test_viscoelastic_sphere_line_load_within_its_estimate():
+    """The audit's scene 44 (a light long term, E_1 = 0.177 E_inf at 4.37 s, V = -2.78 mm/s,
+    F = 0.68 N, mu 0, tol 1e-3): 512^2, line load 225.9399 N/m under 1.17e-4; fixed grids on
+    the solve's period 225.9899 (1024^2), 225.9754 (1536^2), 225.9803 (2048^2)."""
+    r = solve(speed=-0.0027761347213070943, prony=((388624.33503537375, 4.374888680084054),),
+              mu=0.0, tol=1e-3, indenter="sphere", force=0.6815129850282954)
+    assert r.grid_points == (512, 512)
+    ref = 225.9754  # the closest of the three fine grids
+    assert abs(r.summary()["line_load_y0_N_per_m"] - ref) / ref <= r.error_estimate
