@@ -23,9 +23,10 @@ R = 130 mm.
 
 Per scene (each in a forked child, ``--timeout`` s, default 420):
 - the automatic solve at tol (refused: a row saying so; that keeps the claim);
-- two references.  Lines: A = 2^20 points over twice the solve's period (2^18 with --quick),
-  B = the automatic solve at tol/10 (its own period and path; if refused, 2^21 points on
-  twice the period).  Surfaces: A = 4x the cells per axis on the solve's period (capped at
+- two references.  Lines: A = 2^20 points over twice the solve's period (2^18 with --quick;
+  where that fine grid's active set does not settle, 2^21 points on the solve's period, then
+  2^19 on twice it: ``ref_A``), B = the automatic solve at tol/10 (its own period and path;
+  if refused, 2^21 points on twice the period).  Surfaces: A = 4x the cells per axis on the solve's period (capped at
   2^23 points), B = the automatic solve at tol/10 for tol 1e-2, else 4x cells along x and 2x
   along y on twice the period along x;
 - ``true_error`` = the error against A; ``status``: "bounded" (against A and B), "OVER"
