@@ -126,15 +126,17 @@ def _peak_factor(w: float) -> float:
     return -float(res.fun)
 
 
-def _leading_peak_terms(edge_scales, radius: float) -> list:
+def _leading_peak_terms(edge_scales, radius: float, merged=None) -> list:
     """The (|V| tau_i, E_i/E_inf) of the terms whose leading edge peak may be the pressure
     maximum: E_i/E_inf > _PEAK_WEIGHT and that peak, ~A sqrt(lambda_i) _peak_factor(w_i), at
     least the Hertzian centre's A sqrt(a/2) (A the edge's square-root amplitude: p0 sqrt(2
     eps/a)), i.e. sqrt(2 lambda_i/a) _peak_factor(w_i) >= 1.  Unresolved, that peak is missed
     (E_1 = 10 E_inf, 1 cm/s, where the ratio is 1.8: p_max 20.7, 19.0, 17.4, 17.39 at 512 x 256
-    ... 4096 x 2048); each term taken alone."""
-    return [(lam, w) for lam, w in edge_scales
-            if w > _PEAK_WEIGHT and math.sqrt(2.0 * lam / radius) * _peak_factor(w) >= 1.0]
+    ... 4096 x 2048); each term taken with those of nearby tau (``merged``: the film's
+    ``merged_weights``; default each alone), its own weight returned."""
+    merged = [w for _, w in edge_scales] if merged is None else merged
+    return [(lam, w) for (lam, w), m in zip(edge_scales, merged)
+            if m > _PEAK_WEIGHT and math.sqrt(2.0 * lam / radius) * _peak_factor(m) >= 1.0]
 
 
 def memory_needed(nx: int, ny: int, contact_fraction: float = 0.25) -> float:
@@ -423,7 +425,8 @@ class _SurfaceSolve:
         scales = self.prob.film.edge_scales()
         if not self.EDGE_LAYER_FITTED:
             return scales
-        return _leading_peak_terms(scales, self.radius) if self.radius else []
+        return _leading_peak_terms(scales, self.radius, self.prob.film.merged_weights()) \
+            if self.radius else []
 
     def size(self, q) -> float:
         """The contact radius sqrt(A/pi) (the unresolved viscoelastic edges are relative to it)."""
