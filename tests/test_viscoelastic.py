@@ -286,15 +286,16 @@ def test_slow_sliding_first_order_theory(sign):
 
 def test_sphere_period_too_short_for_the_tail_is_refused():
     """3D: a user period that holds the contact and the elastic decay but not a relaxation
-    tail shorter than 2.7 h (V tau_r = 1 h here, held by the period) is refused in one message
-    naming the tail; a longer tail (10 h) has its images summed (tail_terms): the same period
-    is accepted."""
+    tail shorter than 2.7 h (V tau_r = 1 h here, held by the period: its excess over the
+    elastic margin from the kernel's far field, ``_SurfaceSolve.margin_x``, ~1.1 h) is refused
+    in one message naming the tail; a longer tail (10 h) has its images summed (tail_terms):
+    the same period is accepted."""
     kw = dict(indenter="sphere", force=1.0, mu=0.0, prony=SLS, tol=1e-2)
     with pytest.raises(InputError, match="relaxation tail"):
-        solve(**kw, speed=0.1, domain_length=(0.032, 0.04))  # 16 h x 20 h (elastic need ~13 h)
-    # the same period is fine for the elastic film, and for the summed tail
-    solve(indenter="sphere", force=1.0, mu=0.0, tol=1e-2, domain_length=(0.032, 0.04))
-    solve(**kw, speed=1.0, domain_length=(0.032, 0.04))
+        solve(**kw, speed=0.1, domain_length=(0.021, 0.04))  # 10.5 h (need 10.9 h)
+    # the same period is fine for the elastic film (need 9.8 h), and for the summed tail
+    solve(indenter="sphere", force=1.0, mu=0.0, tol=1e-2, domain_length=(0.021, 0.04))
+    solve(**kw, speed=1.0, domain_length=(0.021, 0.04))
 
 
 @pytest.mark.parametrize("mu", [0.0, 0.5])
