@@ -331,7 +331,8 @@ class _SurfaceSolve:
         need = (width_x + free, width_y + free)
         visco = self.prob.visco
         if visco:  # and along x the relaxation tail behind the contact (issue 23)
-            need = (need[0] + self.prob.margin - Film.domain_margin(self.prob.film, tol), need[1])
+            need = (need[0] + self.margin_x(width_x, width_y)
+                    - Film.domain_margin(self.prob.film, tol), need[1])
         if any(L < n for L, n in zip(dl, need)):
             raise InputError(
                 f"domain_length ({dl[0]:.4g}, {dl[1]:.4g}) h is too short "
@@ -339,6 +340,16 @@ class _SurfaceSolve:
                 f"({width_x:.3g} x {width_y:.3g} h) plus {free:.3g} h for its images to decay "
                 f"below tol/2{' (along x also the relaxation tail behind it)' if visco else ''}: "
                 f"at least ({need[0]:.4g}, {need[1]:.4g}) h, or leave it automatic")
+
+    def margin_x(self, width_x: float, width_y: float) -> float:
+        """A viscoelastic film's margin along x, the sliding direction: the kernel's far field
+        as on lines (``ViscoelasticFilm.line_margin``: the elastic poles times R there, the
+        tails shorter than 2.7 h, the longer ones' images summed; relative to the contact's
+        |R(1/radius)|, radius (width_x + width_y)/4), not the elastic margin plus the tail's
+        (``ViscoelasticFilm.domain_margin``; before the eighth session): the decays do not
+        add.  The images on that period: studies/README, viscoelastic, eighth session."""
+        return self.prob.film.line_margin(self.prob.tol, self.prob.mu_contact,
+                                          size=0.25 * (width_x + width_y))
 
     def period(self, located):
         """2. the periods: the contact plus the decay margin, centred on the contact (a fixed
@@ -352,6 +363,8 @@ class _SurfaceSolve:
         if dl is not None:
             self.check_period(q)
         guard = 4.0 * max(sol.grid.spacing)
+        if prob.visco and dl is None:
+            prob.margin = self.margin_x(width_x, width_y)
         # the tail is along x
         margin_y = Film.domain_margin(prob.film, prob.tol) if prob.visco else prob.margin
         L = dl or (width_x + prob.margin + guard, width_y + margin_y + guard)
