@@ -176,6 +176,43 @@ def _difference(q, r, singular_peak: bool = False) -> float:
     return out
 
 
+# A viscoelastic surface's radius (tenth session, studies/README, viscoelastic: the surfaces'
+# estimate and the far-field period).  Its error has two parts of different order: the
+# polygon's chord deficit (inward, ~dx^2) and the edge fits' sub-cell bias (~dx, either sign);
+# where they cancel in the last two levels' difference, that difference is no bound.
+# (a) With a third nested level: neither part falls faster than second order, so the
+# radius's difference d_k (its relative change from the previous level) is at least
+# |d_(k-1)|/4 unless its parts cancel; the radius's part of the estimate is at least that,
+# |d_(k-1)|/_CANCELLED (a two-part model u dx + v dx^2 with d_k = 0 exactly gives |d_(k-1)|/3).
+# Measured: the two-term film (tol 1e-3, 3 mm/s) 7.0e-5 off under a difference of 3.4e-7
+# (d_(k-1) 6.0e-4), E_1 = 10 E_inf (tol 1e-3, 1 mm/s) 5.4e-4 under 1.3e-4 (d_(k-1) 2.9e-3).
+_CANCELLED = 4.0
+# (b) With two levels only and the trailing edges fitted from the pressure side
+# (``trailing_from_pressure``): that fit's bias does not fall from 128^2 to 256^2 (the
+# radius's error in cells against 4x the cells: -0.029 ... +0.010 at 128^2, -0.017 ... +0.027
+# at 256^2, E_1 = 3 and 10 E_inf, 1e-4 ... 3e-2 m/s, tol 1e-2 ... 1e-3), so the difference
+# misses it (E_1 = 3 E_inf, tol 1e-2, 1 mm/s: 7.5e-4 off under 5.6e-4); the radius's part is at
+# least _PRESSURE_FIT_CELLS cells over the radius.
+_PRESSURE_FIT_CELLS = 0.03
+
+
+def _radius(q) -> float:
+    return math.sqrt(max(q["area"], 0.0) / math.pi)
+
+
+def _radius_bound(history, cur, from_pressure: bool) -> float:
+    """A viscoelastic surface's lower bound of the radius's estimate (the comments above
+    _CANCELLED and _PRESSURE_FIT_CELLS): ``history`` the levels [(shape, q)], its last
+    ``cur``'s; 0 where neither applies."""
+    rad = max(_radius(cur.q), 1e-300)
+    if len(history) >= 3 and tuple(history[-3][0]) == tuple(n // 2 for n in history[-2][0]) \
+            and tuple(history[-2][0]) == tuple(n // 2 for n in history[-1][0]):
+        return abs(_radius(history[-2][1]) - _radius(history[-3][1])) / rad / _CANCELLED
+    if from_pressure:
+        return _PRESSURE_FIT_CELLS * max(cur.grid.spacing) / rad
+    return 0.0
+
+
 def _extent_difference(q, r) -> float:
     """Largest change of the contact's extents between two levels, relative to the radius."""
     rad = max(math.sqrt(max(q["area"], 0.0) / math.pi), 1e-300)
@@ -426,7 +463,10 @@ class _SurfaceSolve:
         """The levels' difference of the controlled measures (``_difference``); the extents'
         own is recorded (``extent_error_estimate``)."""
         lv.extent_est = _extent_difference(cur.q, prev.q)
-        return _difference(cur.q, prev.q, self.ind.singular_peak)
+        out = _difference(cur.q, prev.q, self.ind.singular_peak)
+        if self.prob.visco:  # the radius's parts that cancel (``_radius_bound``)
+            out = max(out, _radius_bound(lv.history, cur, self.TRAILING_FROM_PRESSURE))
+        return out
 
     def unfitted_edge_scales(self) -> list:
         """The edge scales ``fft_driver.estimate`` bounds as unresolved: where the fits carry
