@@ -13,6 +13,8 @@ Resolution from a tolerance, as in 2D:
    peak pressure.  The last difference is returned as the error estimate: the measures converge
    at least linearly in the cell size, so the difference between N/2 and N bounds the error at
    N (tests/test_three_d.py checks it against finer grids and the axisymmetric reference).
+   On a viscoelastic film the radius's part is at least what its two error parts leave
+   when they cancel in that difference (``_radius_bound``).
    The contact's x and y extents (envelopes of edges fitted along grid lines, to a few
    hundredths of a cell) are reported with their own level difference,
    ``info["extent_error_estimate"]``, not controlled by tol: at a smooth tip the lines graze
