@@ -402,9 +402,11 @@ class ViscoelasticFilm(Film):
         return c * min(1.0, (2.0 * self.thickness / (length or self.tail_length)) ** 2)
 
     def domain_margin(self, tol: float, tails_corrected: bool = False) -> float:
-        """Surfaces' margin (lines: ``line_margin``, from the far field, where the decays do not
-        add): the elastic margin plus the tail's: l ln(100 A/tol), A = ``tail_amplitude(l)`` (the
-        two decays add, the tail being the elastic sinking smeared behind the load over l),
+        """The locator's margin and a first bound (lines and, since the eighth session, surfaces
+        along x take ``line_margin`` once the contact is located: from the far field, where the
+        decays do not add): the elastic margin plus the tail's: l ln(100 A/tol), A =
+        ``tail_amplitude(l)`` (the two decays added, the tail being the elastic sinking smeared
+        behind the load over l),
         l = ``tail_length``; ``tails_corrected`` (lines: the tails of ``tail_poles`` have their
         images summed exactly by the solver): l the longest retardation length left, < 2.7 h,
         or the elastic margin alone.  The images are then measured (``solvers.fft``).
