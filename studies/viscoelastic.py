@@ -708,7 +708,7 @@ def _layer_change(r, b, ref, ref0, delta, delta0) -> tuple:
     return ((t - t0) - true_t) / delta, ((ld - l0) - true_l) / delta
 
 
-def part_offset_range(quick: bool, out, t0, weights=None) -> list[dict]:
+def part_offset_range(quick: bool, out, t0, weights=None, scenes=None) -> list[dict]:
     """Tenth session: the fitted edges' offsets from far below a cell to a few cells (the
     measures of ``_LineSolve.layer_offset``): single terms E_1 = 3, 10 E_inf (``weights``:
     --heavy-weights) on ``OFFSET_SCENES``, at the speeds giving l/dx = ``OFFSET_CELLS`` on the
@@ -718,10 +718,11 @@ def part_offset_range(quick: bool, out, t0, weights=None) -> list[dict]:
     against 2^19 points on the period (2^21 where the elastic grid has more than 8192 points)
     where those resolve l (l/dx there >= OFFSET_RESOLVED), else the slow-sliding theory
     (``ref_vs_slow``: the two where both are computed); also the raw a, x_c errors against the
-    reference, as the seventh session's heavy_offset."""
+    reference, as the seventh session's heavy_offset.  ``scenes`` (--offset-scenes): some of
+    ``OFFSET_SCENES`` alone (their table gets their names' suffix)."""
     from spectral_contact.solvers.fft import _LineSolve
     films = tuple(weights) if weights else ((10.0,) if quick else (3.0, 10.0))
-    names = ["paper", "aH/h=1"] if quick else list(OFFSET_SCENES)
+    names = scenes or (["paper", "aH/h=1"] if quick else list(OFFSET_SCENES))
     cells = (0.01, 0.3, 2.0) if quick else OFFSET_CELLS
     h = FILM["thickness"]
     rows = []
@@ -788,7 +789,9 @@ def part_offset_range(quick: bool, out, t0, weights=None) -> list[dict]:
                 progress(len(rows) // len(grids), n, f"{name} w={w:g} l/dx={x:g}", t0)
     full = max(rows, key=len)  # (a failed row: the others' columns, nan)
     rows = [{**{k: math.nan for k in full}, **r} for r in rows]
-    table(rows, out / f"viscoelastic_offset_range{_weights_suffix(weights)}.csv",
+    suffix = _weights_suffix(weights) + ("_" + "_".join(
+        n.replace("aH/h=", "aH").replace(" ", "") for n in scenes) if scenes else "")
+    table(rows, out / f"viscoelastic_offset_range{suffix}.csv",
           "the fitted edges' offsets over delta, as changes from l/dx 1e-5 on the same grid, "
           "against 2^19-2^21 points (resolved) or the slow-sliding theory; bound: "
           "_LineSolve.layer_offset (tenth session), old: 0.1 min(1, dx/l)")
@@ -1143,6 +1146,19 @@ def _weights(text: str) -> tuple:
     return float_list(text, "--heavy-weights", "weights E_1/E_inf > 0")
 
 
+def _offset_scenes(text: str):
+    """--offset-scenes: a comma list of OFFSET_SCENES' names (None: all); one line and exit 2
+    naming the option otherwise."""
+    if not text:
+        return None
+    names = text.split(",")
+    if not all(n in OFFSET_SCENES for n in names):
+        print(f"--offset-scenes must be a comma list of {', '.join(OFFSET_SCENES)}; got "
+              f"{text!r}", file=sys.stderr)
+        raise SystemExit(2)
+    return names
+
+
 def main(argv=None) -> int:
     def extra(p):
         p.add_argument("--parts", default=",".join(PARTS),
@@ -1156,6 +1172,9 @@ def main(argv=None) -> int:
                        help="sphere_beyond_cost: comma list of tolerances (default 1e-2,5e-3,1e-3)")
         p.add_argument("--sphere-forces", default="1",
                        help="sphere_beyond_cost: comma list of the sphere's loads [N] (default 1)")
+        p.add_argument("--offset-scenes", default="",
+                       help="offset_range: comma list of its scenes to run alone (default all: "
+                            + ", ".join(OFFSET_SCENES) + ")")
         p.add_argument("--heavy-weights", default="",
                        help="heavy_terms, heavy_offset, offset_range: comma list of single terms' weights "
                             "E_1/E_inf to run instead of the default films (e.g. 30,100)")
@@ -1203,7 +1222,7 @@ def main(argv=None) -> int:
     if "heavy_offset" in parts:
         part_heavy_offset(args.quick, out, t0, weights)
     if "offset_range" in parts:
-        part_offset_range(args.quick, out, t0, weights)
+        part_offset_range(args.quick, out, t0, weights, _offset_scenes(args.offset_scenes))
     if "offset_phase" in parts:
         part_offset_phase(args.quick, out, t0)
     return 0
