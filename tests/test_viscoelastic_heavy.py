@@ -173,9 +173,10 @@ def test_layer_offset_below_a_cell_tends_to_a_constant_past_the_old_bound(x):
 def test_layer_offset_beyond_a_cell_within_the_tighter_bound():
     """Beyond a cell the offsets fall faster than dx/l (tenth session: the sum of both edges'
     offsets 0.0088 delta at most over 16 phases at l/dx 4, a_H/h 1, E_1 = 10 E_inf, 4096
-    points; 0.0099 over all the scenes): ``layer_offset`` takes 0.0149 there (the old bound
-    0.025), and the estimate's ``layer_bias`` bounds a and x_c on four phases (the period
-    stretched by a quarter cell at the trailing edge each), the true change from 2^19 points."""
+    points; 0.0128 on the paper's scene, the largest): ``layer_offset`` takes 0.0149 there
+    (the old bound 0.025), and the estimate's ``layer_bias`` bounds a and x_c on four phases
+    (the period stretched by a quarter cell at the trailing edge each), the true change from
+    2^19 points."""
     from spectral_contact.solvers.fft import _LineSolve
     from studies.viscoelastic import FILM, load_for
     h, w, N, x = FILM["thickness"], 10.0, 4096, 4.0

@@ -499,16 +499,17 @@ class _LineSolve:
     # own sub-cell noise cancelled) against 2^19-2^21 points on the period (or the slow-sliding
     # theory where those do not resolve l), E_1 = 3, 10 E_inf on a_H/h 0.1, 0.3, 1, 3 (mu 0,
     # 0.5) and the paper's scene, l/dx 1e-4 ... 11, the edge's phase in its cell swept by the
-    # period on four scenes.  As l/dx -> 0 the offset does not vanish: it tends to delta_i
-    # times a function of the edge's phase (the grid sees R(k) = 1 + i k delta_i, the
-    # collocation's compliance translated by a fraction of a cell; the fits' error moves
-    # with that translation): trailing -0.10 ... +0.18, leading +0.05 ... +0.06, their sum up
-    # to 0.24 (at l/dx 0.01; 0.17 at 0.1, 0.13 at 0.2, 0.10 at 0.35-0.5, 0.076 at 1), past
-    # the old 0.1.  Beyond a cell it falls faster than dx/l: 0.046 (l/dx 1.4), 0.037 (2),
-    # 0.019 (2.8), 0.0099 (4), 0.0056 (5.6), 0.0028 (8), 0.0014 (11).  LAYER_SUBCELL below
-    # LAYER_OFFSET (l/dx)^-1/2, then LAYER_OFFSET dx/l up to LAYER_FALL_FROM cells, then
-    # (LAYER_OFFSET / LAYER_FALL_FROM) (LAYER_FALL_FROM dx/l)^LAYER_FALL: 1.2-1.8 times the
-    # largest measured offset at every l/dx from 1 on
+    # period (16 phases, 64 below a cell) on five scenes.  As l/dx -> 0 the offset does not
+    # vanish: it tends to delta_i times a function of the edge's phase (the grid sees R(k) =
+    # 1 + i k delta_i, the collocation's compliance translated by a fraction of a cell, and
+    # the fits' error moves with that translation): trailing -0.10 ... +0.19, leading +0.05
+    # ... +0.06 (0.09 at one phase), their sum up to 0.25 (l/dx 0.01 and 0.001 alike; 0.18
+    # at 0.1, 0.17 at 0.2, 0.11 at 0.5, 0.084 at 1), past the old 0.1 below l/dx 0.2.  Beyond
+    # a cell it falls faster than dx/l: 0.060 (l/dx 1.4), 0.039 (2), 0.023 (2.8), 0.013 (4),
+    # 0.0062 (5.6), 0.0030 (8), 0.0016 (11).  LAYER_SUBCELL below LAYER_OFFSET (l/dx)^-1/2,
+    # then LAYER_OFFSET dx/l up to LAYER_FALL_FROM cells, then (LAYER_OFFSET /
+    # LAYER_FALL_FROM) (LAYER_FALL_FROM dx/l)^LAYER_FALL: 1.16-1.5 times the largest measured
+    # sum at every l/dx from 1 on, 1.2 below a tenth of a cell
     LAYER_SUBCELL = 0.3
     LAYER_FALL_FROM = 2.0
     LAYER_FALL = 1.75
