@@ -1182,6 +1182,7 @@ def main(argv=None) -> int:
     args, out = parse(argv, __doc__.splitlines()[0], "out/viscoelastic", extra=extra)
     parts = args.parts.split(",")
     weights = _weights(args.heavy_weights) if args.heavy_weights else None
+    offset_scenes = _offset_scenes(args.offset_scenes)  # (checked before any part runs)
     t0 = time.perf_counter()
     if "speed" in parts:
         part_speed(args.quick, out, t0)
@@ -1222,7 +1223,7 @@ def main(argv=None) -> int:
     if "heavy_offset" in parts:
         part_heavy_offset(args.quick, out, t0, weights)
     if "offset_range" in parts:
-        part_offset_range(args.quick, out, t0, weights, _offset_scenes(args.offset_scenes))
+        part_offset_range(args.quick, out, t0, weights, offset_scenes)
     if "offset_phase" in parts:
         part_offset_phase(args.quick, out, t0)
     return 0

@@ -268,6 +268,18 @@ def test_heavy_weights_option_refuses_bad_input(tmp_path, capsys):
         assert "--heavy-weights must be" in capsys.readouterr().err
 
 
+def test_offset_scenes_option_refuses_bad_input(tmp_path, capsys):
+    """studies.viscoelastic --offset-scenes (tenth session): one line naming the option and
+    exit 2 for a name that is not one of offset_range's scenes, before any solve."""
+    from studies.viscoelastic import main
+
+    for bad in ("aH/h=2", "paper,aH/h=1 mu2"):
+        with pytest.raises(SystemExit) as exc:
+            main(["--parts", "offset_range", "--offset-scenes", bad, "--out", str(tmp_path)])
+        assert exc.value.code == 2
+        assert "--offset-scenes must be" in capsys.readouterr().err
+
+
 def test_a_travelling_active_set_defect_is_filled_at_once(monkeypatch):
     """E_1 = 30 E_inf on the paper's scene at 50 um/s, a fixed 2^14-point grid on the elastic
     period: on the 8192-point level an odd-even pair of holes enters the active set at the
