@@ -286,15 +286,41 @@ def test_slow_sliding_first_order_theory(sign):
 
 def test_sphere_period_too_short_for_the_tail_is_refused():
     """3D: a user period that holds the contact and the elastic decay but not a relaxation
-    tail shorter than 2.7 h (V tau_r = 1 h here, held by the period) is refused in one message
-    naming the tail; a longer tail (10 h) has its images summed (tail_terms): the same period
-    is accepted."""
+    tail shorter than 2.7 h (V tau_r = 1 h here, held by the period: its excess over the
+    elastic margin from the kernel's far field, ``_SurfaceSolve.margin_x``, ~1.1 h) is refused
+    in one message naming the tail; a longer tail (10 h) has its images summed (tail_terms):
+    the same period is accepted."""
     kw = dict(indenter="sphere", force=1.0, mu=0.0, prony=SLS, tol=1e-2)
     with pytest.raises(InputError, match="relaxation tail"):
-        solve(**kw, speed=0.1, domain_length=(0.032, 0.04))  # 16 h x 20 h (elastic need ~13 h)
-    # the same period is fine for the elastic film, and for the summed tail
-    solve(indenter="sphere", force=1.0, mu=0.0, tol=1e-2, domain_length=(0.032, 0.04))
-    solve(**kw, speed=1.0, domain_length=(0.032, 0.04))
+        solve(**kw, speed=0.1, domain_length=(0.021, 0.04))  # 10.5 h (need 10.9 h)
+    # the same period is fine for the elastic film (need 9.8 h), and for the summed tail
+    solve(indenter="sphere", force=1.0, mu=0.0, tol=1e-2, domain_length=(0.021, 0.04))
+    solve(**kw, speed=1.0, domain_length=(0.021, 0.04))
+
+
+def test_sphere_period_from_the_far_field():
+    """3D, SLS at 0.1 m/s (V tau_r = 1 h, held by the period), tol 1e-2: the period along x is
+    the kernel's far-field margin (``_SurfaceSolve.margin_x``, as lines'), 1.4 h beyond the
+    elastic one's, not the elastic margin plus the tail's l ln(100 A/tol) (~6 h more: the
+    decays do not add); on it the periodic images move the radius, centroid, d and p_max by
+    less than tol/1000 (the fixed grid on the period and on twice it along x, same cells)."""
+    from spectral_contact.physics.film import Film
+
+    kw = dict(indenter="sphere", force=1.0, mu=0.0, prony=SLS, speed=0.1, tol=1e-2)
+    r = solve(**kw)
+    (nx, ny), (Lx, Ly) = r.grid_points, r.domain_length
+    film = r.scene.core_film()
+    elastic, additive = Film.domain_margin(film, 1e-2), film.domain_margin(1e-2, True)
+    assert elastic < r.info["domain_margin"] < elastic + 0.5 * (additive - elastic)
+    h = 0.002
+    a = solve(**kw, grid_points=(nx, ny), domain_length=(Lx * h, Ly * h)).summary()
+    b = solve(**kw, grid_points=(2 * nx, ny), domain_length=(2 * Lx * h, Ly * h)).summary()
+    rad = b["contact_radius_m"]
+    change = max(abs(a["contact_radius_m"] - rad) / rad,
+                 abs(a["pressure_centroid_x_m"] - b["pressure_centroid_x_m"]) / rad,
+                 abs(a["indentation_m"] / b["indentation_m"] - 1.0),
+                 abs(a["max_pressure_Pa"] / b["max_pressure_Pa"] - 1.0))
+    assert change < 1e-5
 
 
 @pytest.mark.parametrize("mu", [0.0, 0.5])

@@ -541,9 +541,12 @@ class _LineSolve:
         none on an elastic film."""
         if not self.prob.visco:
             return []
-        scales = self.prob.film.edge_scales()
+        film = self.prob.film
+        scales = film.edge_scales()
+        # (heavier: by the weight of the terms of nearby tau together, ``merged_weights``)
         return scales if self.resolve_edges else [
-            (w, wt) for w, wt in scales if wt > self.LAYER_FITTED_WEIGHT]
+            s for s, merged in zip(scales, film.merged_weights())
+            if merged > self.LAYER_FITTED_WEIGHT]
 
     def layer_scales(self) -> list:
         """(|V| tau_i, E_i/E_inf) of the fitted terms heavier than LAYER_BIAS_WEIGHT: their
@@ -552,8 +555,9 @@ class _LineSolve:
         where it would take more than VISCO_EDGE_SHARE tol)."""
         if not self.prob.visco or self.resolve_edges:
             return []
-        return [(w, wt) for w, wt in self.prob.film.edge_scales()
-                if self.LAYER_BIAS_WEIGHT < wt <= self.LAYER_FITTED_WEIGHT]
+        film = self.prob.film
+        return [(w, wt) for (w, wt), merged in zip(film.edge_scales(), film.merged_weights())
+                if self.LAYER_BIAS_WEIGHT < wt and merged <= self.LAYER_FITTED_WEIGHT]
 
     def layer_bias(self, a: float, dx: float) -> float:
         """Bound of the fitted trailing edge's offset on a grid of spacing ``dx`` relative to

@@ -13,6 +13,8 @@ Resolution from a tolerance, as in 2D:
    peak pressure.  The last difference is returned as the error estimate: the measures converge
    at least linearly in the cell size, so the difference between N/2 and N bounds the error at
    N (tests/test_three_d.py checks it against finer grids and the axisymmetric reference).
+   On a viscoelastic film the radius's part is at least what its two error parts leave
+   when they cancel in that difference (``_radius_bound``).
    The contact's x and y extents (envelopes of edges fitted along grid lines, to a few
    hundredths of a cell) are reported with their own level difference,
    ``info["extent_error_estimate"]``, not controlled by tol: at a smooth tip the lines graze
@@ -126,15 +128,17 @@ def _peak_factor(w: float) -> float:
     return -float(res.fun)
 
 
-def _leading_peak_terms(edge_scales, radius: float) -> list:
+def _leading_peak_terms(edge_scales, radius: float, merged=None) -> list:
     """The (|V| tau_i, E_i/E_inf) of the terms whose leading edge peak may be the pressure
     maximum: E_i/E_inf > _PEAK_WEIGHT and that peak, ~A sqrt(lambda_i) _peak_factor(w_i), at
     least the Hertzian centre's A sqrt(a/2) (A the edge's square-root amplitude: p0 sqrt(2
     eps/a)), i.e. sqrt(2 lambda_i/a) _peak_factor(w_i) >= 1.  Unresolved, that peak is missed
     (E_1 = 10 E_inf, 1 cm/s, where the ratio is 1.8: p_max 20.7, 19.0, 17.4, 17.39 at 512 x 256
-    ... 4096 x 2048); each term taken alone."""
-    return [(lam, w) for lam, w in edge_scales
-            if w > _PEAK_WEIGHT and math.sqrt(2.0 * lam / radius) * _peak_factor(w) >= 1.0]
+    ... 4096 x 2048); each term taken with those of nearby tau (``merged``: the film's
+    ``merged_weights``; default each alone), its own weight returned."""
+    merged = [w for _, w in edge_scales] if merged is None else merged
+    return [(lam, w) for (lam, w), m in zip(edge_scales, merged)
+            if m > _PEAK_WEIGHT and math.sqrt(2.0 * lam / radius) * _peak_factor(m) >= 1.0]
 
 
 def memory_needed(nx: int, ny: int, contact_fraction: float = 0.25) -> float:
@@ -174,6 +178,44 @@ def _difference(q, r, singular_peak: bool = False) -> float:
     if not singular_peak:
         out = max(out, abs(q["pmax"] - r["pmax"]) / max(q["pmax"], 1e-300))
     return out
+
+
+# A viscoelastic surface's radius (tenth session, studies/README, viscoelastic: the surfaces'
+# estimate and the far-field period).  Its error has two parts of different order: the
+# polygon's chord deficit (inward, ~dx^2) and the edge fits' sub-cell bias (~dx, either sign);
+# where they cancel in the last two levels' difference, that difference is no bound.
+# (a) With a third nested level: neither part falls faster than second order, so the
+# radius's difference d_k (its relative change from the previous level) is at least
+# |d_(k-1)|/4 unless its parts cancel; the radius's part of the estimate is at least that,
+# |d_(k-1)|/_CANCELLED (a two-part model u dx + v dx^2 with d_k = 0 exactly gives |d_(k-1)|/3).
+# Measured: the two-term film (tol 1e-3, 3 mm/s) 7.0e-5 off under a difference of 3.4e-7
+# (d_(k-1) 6.0e-4), E_1 = 10 E_inf (tol 1e-3, 1 mm/s) 5.4e-4 under 1.3e-4 (d_(k-1) 2.9e-3).
+_CANCELLED = 4.0
+# (b) With two levels only and the trailing edges fitted from the pressure side
+# (``trailing_from_pressure``): that fit's bias does not fall from 128^2 to 256^2 (the
+# radius's error in cells against 4x the cells, E_1 = 3 and 10 E_inf, 0.8 ... 1.5 N, mu 0 and
+# 0.5, 1e-4 ... 3e-2 m/s, tol 1e-2 ... 1e-3: -0.041 ... +0.044 at 128^2, -0.025 ... +0.027 at
+# 256^2), so the difference misses it (E_1 = 3 E_inf, 1 N, tol 1e-2, 1 mm/s: 7.5e-4 off under
+# 5.6e-4); the radius's part is at least _PRESSURE_FIT_CELLS cells over the radius (measured,
+# not derived: the largest error of a final two-level grid was 0.0265 cells, in 152 of them).
+_PRESSURE_FIT_CELLS = 0.03
+
+
+def _radius(q) -> float:
+    return math.sqrt(max(q["area"], 0.0) / math.pi)
+
+
+def _radius_bound(history, cur, from_pressure: bool) -> float:
+    """A viscoelastic surface's lower bound of the radius's estimate (the comments above
+    _CANCELLED and _PRESSURE_FIT_CELLS): ``history`` the levels [(shape, q)], its last
+    ``cur``'s; 0 where neither applies."""
+    rad = max(_radius(cur.q), 1e-300)
+    if len(history) >= 3 and tuple(history[-3][0]) == tuple(n // 2 for n in history[-2][0]) \
+            and tuple(history[-2][0]) == tuple(n // 2 for n in history[-1][0]):
+        return abs(_radius(history[-2][1]) - _radius(history[-3][1])) / rad / _CANCELLED
+    if from_pressure:
+        return _PRESSURE_FIT_CELLS * max(cur.grid.spacing) / rad
+    return 0.0
 
 
 def _extent_difference(q, r) -> float:
@@ -331,7 +373,8 @@ class _SurfaceSolve:
         need = (width_x + free, width_y + free)
         visco = self.prob.visco
         if visco:  # and along x the relaxation tail behind the contact (issue 23)
-            need = (need[0] + self.prob.margin - Film.domain_margin(self.prob.film, tol), need[1])
+            need = (need[0] + self.margin_x(width_x, width_y)
+                    - Film.domain_margin(self.prob.film, tol), need[1])
         if any(L < n for L, n in zip(dl, need)):
             raise InputError(
                 f"domain_length ({dl[0]:.4g}, {dl[1]:.4g}) h is too short "
@@ -339,6 +382,16 @@ class _SurfaceSolve:
                 f"({width_x:.3g} x {width_y:.3g} h) plus {free:.3g} h for its images to decay "
                 f"below tol/2{' (along x also the relaxation tail behind it)' if visco else ''}: "
                 f"at least ({need[0]:.4g}, {need[1]:.4g}) h, or leave it automatic")
+
+    def margin_x(self, width_x: float, width_y: float) -> float:
+        """A viscoelastic film's margin along x, the sliding direction: the kernel's far field
+        as on lines (``ViscoelasticFilm.line_margin``: the elastic poles times R there, the
+        tails shorter than 2.7 h, the longer ones' images summed; relative to the contact's
+        |R(1/radius)|, radius (width_x + width_y)/4), not the elastic margin plus the tail's
+        (``ViscoelasticFilm.domain_margin``; before the eighth session): the decays do not
+        add.  The images on that period: studies/README, viscoelastic, eighth session."""
+        return self.prob.film.line_margin(self.prob.tol, self.prob.mu_contact,
+                                          size=0.25 * (width_x + width_y))
 
     def period(self, located):
         """2. the periods: the contact plus the decay margin, centred on the contact (a fixed
@@ -352,6 +405,8 @@ class _SurfaceSolve:
         if dl is not None:
             self.check_period(q)
         guard = 4.0 * max(sol.grid.spacing)
+        if prob.visco and dl is None:
+            prob.margin = self.margin_x(width_x, width_y)
         # the tail is along x
         margin_y = Film.domain_margin(prob.film, prob.tol) if prob.visco else prob.margin
         L = dl or (width_x + prob.margin + guard, width_y + margin_y + guard)
@@ -413,7 +468,10 @@ class _SurfaceSolve:
         """The levels' difference of the controlled measures (``_difference``); the extents'
         own is recorded (``extent_error_estimate``)."""
         lv.extent_est = _extent_difference(cur.q, prev.q)
-        return _difference(cur.q, prev.q, self.ind.singular_peak)
+        out = _difference(cur.q, prev.q, self.ind.singular_peak)
+        if self.prob.visco:  # the radius's parts that cancel (``_radius_bound``)
+            out = max(out, _radius_bound(lv.history, cur, self.TRAILING_FROM_PRESSURE))
+        return out
 
     def unfitted_edge_scales(self) -> list:
         """The edge scales ``fft_driver.estimate`` bounds as unresolved: where the fits carry
@@ -423,7 +481,8 @@ class _SurfaceSolve:
         scales = self.prob.film.edge_scales()
         if not self.EDGE_LAYER_FITTED:
             return scales
-        return _leading_peak_terms(scales, self.radius) if self.radius else []
+        return _leading_peak_terms(scales, self.radius, self.prob.film.merged_weights()) \
+            if self.radius else []
 
     def size(self, q) -> float:
         """The contact radius sqrt(A/pi) (the unresolved viscoelastic edges are relative to it)."""

@@ -4,6 +4,7 @@ the one driver (``fft_driver.run``) on a line (``solvers.fft.solve_fft``) or a s
 from __future__ import annotations
 
 from ..errors import ConvergenceError
+from ..physics.viscoelastic import MERGE_FACTOR, merged_weights
 from .base import Method, register
 from .fft import MAX_POINTS, MIN_POINTS, solve_fft  # noqa: F401 (importable from here)
 from .fft3d import solve_fft3d
@@ -57,18 +58,22 @@ def _verified_weight(dimension: str) -> float:
 
 def _beyond_verified(scene):
     """What a non-converged viscoelastic solve should be told: its Prony weight beyond the
-    verified one (``_verified_weight``; lines: the heaviest term's E_i/E_inf, surfaces: their
+    verified one (``_verified_weight``; lines: the heaviest term's E_i/E_inf with the terms of
+    nearby tau, surfaces: their
     sum, E_0/E_inf - 1, as the surfaces' fits are bounded); else None."""
     if not scene.prony or scene.speed == 0.0:
         return None
-    moduli = [e / scene.young for e, _ in scene.prony]
     line = scene.dimension == "line"
-    w, top = (max(moduli) if line else sum(moduli)), _verified_weight(scene.dimension)
+    # lines: a term with those of nearby tau (``physics.viscoelastic.merged_weights``)
+    w = (max(merged_weights(scene.prony, scene.young)) if line
+         else sum(e / scene.young for e, _ in scene.prony))
+    top = _verified_weight(scene.dimension)
     if w <= top * (1.0 + 1e-9):
         return None
     what = "a Prony term E_i/E_inf" if line else "the Prony terms' sum E_0/E_inf - 1"
+    merged = f" (terms within a factor {MERGE_FACTOR:g} in tau counted as one)" if line else ""
     return (f"{what} = {w:.3g}, beyond the {top:.3g} the "
-            f"viscoelastic solver is verified for: on films this much stiffer when glassy the "
+            f"viscoelastic solver is verified for{merged}: on films this much stiffer when glassy the "
             f"active set behind the trailing edge may not settle; a lower --speed (slow sliding) "
             f"or a higher one (the glassy film) may solve")
 
