@@ -73,6 +73,13 @@ heavy_terms  seventh session: Prony terms up to E_i/E_inf = 10 left to the edge 
 heavy_offset  seventh session: fixed grids (2048 ... 16384 points) against 2^19 points, E_1 =
            1, 3, 10 E_inf, a_H/h 0.3 and the paper's scene, 2.5e-5 ... 2e-4 m/s: the edges'
            offsets over the term's shift while V tau is below a cell (``LAYER_OFFSET``).
+offset_range  tenth session: the fitted edges' offsets from l/dx 1e-3 to ~8 (E_1 = 3, 10 E_inf;
+           a_H/h 0.1, 0.3, 1, 3 at mu 0 and 0.5, the paper's scene; four fixed grids over the
+           elastic period), each a change from the same grid at l/dx 1e-5 (the fits' own
+           noise cancelled), against 2^19-2^21 points or the slow-sliding theory: the bound
+           ``_LineSolve.layer_offset`` (and the old 0.1 min(1, dx/l)).
+offset_phase  tenth session: the same offsets against the edge's phase in its cell (the period
+           swept by one cell at the trailing edge, 16 periods) at fixed l/dx, five scenes.
 --heavy-weights  ninth session: heavy_terms and heavy_offset run single terms of these weights
            E_1/E_inf instead (e.g. 30,100: rubber-like films 31 and 101 times stiffer when
            glassy; heavy_terms names them "E1=30Einf", ...); their tables get the suffix
@@ -653,7 +660,7 @@ def part_heavy_offset(quick: bool, out, t0, weights=None) -> list[dict]:
                         "offsets_sum_over_delta": (abs(r.center - r.half_width - trail0)
                                                    + abs(r.center + r.half_width - lead0))
                         / delta,
-                        "bound_over_delta": _LineSolve.LAYER_OFFSET * min(1.0, dx / lr)
+                        "bound_over_delta": _LineSolve.layer_offset(lr / dx)
                         if lam < _LineSolve.LAYER_CELLS * dx else 0.0,
                         "a_error": abs(r.half_width - a) / a,
                         "center_error": abs(r.center - ref.center) / a,
@@ -663,6 +670,193 @@ def part_heavy_offset(quick: bool, out, t0, weights=None) -> list[dict]:
     table(rows, out / f"viscoelastic_heavy_offset{_weights_suffix(weights)}.csv",
           "fixed grids against 2^19 points on the elastic period: the edges' offsets over the "
           "term's shift delta while V tau is below a cell (trailing positive = inward)")
+    return rows
+
+
+OFFSET_SCENES = {"aH/h=0.1": (0.1, 0.0), "aH/h=0.1 mu0.5": (0.1, 0.5), "aH/h=0.3": (0.3, 0.0),
+                 "aH/h=0.3 mu0.5": (0.3, 0.5), "aH/h=1": (1.0, 0.0), "aH/h=1 mu0.5": (1.0, 0.5),
+                 "aH/h=3": (3.0, 0.0), "aH/h=3 mu0.5": (3.0, 0.5), "paper": (None, 2.0)}
+# l/dx on the coarsest grid (finer grids: 1/2, 1/4, 1/8 of it)
+OFFSET_CELLS = (0.001, 0.003, 0.01, 0.03, 0.1, 0.2, 0.3, 0.5, 0.7, 1.0, 1.4, 2.0, 2.8, 4.0, 5.6,
+                8.0)
+OFFSET_BASE_CELLS = 1e-5  # the baseline's l/dx on each grid (the fits' own noise, cancelled)
+OFFSET_RESOLVED = 8.0  # the reference's l/dx from which it is taken over the slow theory
+
+
+def _offset_scene(name):
+    """(load, mu) of an offset part's scene (``OFFSET_SCENES``)."""
+    aH, mu = OFFSET_SCENES[name]
+    return (200.0 if aH is None else load_for(aH)), mu
+
+
+def _edge_pair(r):
+    return r.center - r.half_width, r.center + r.half_width
+
+
+def _layer_change(r, b, ref, ref0, delta, delta0) -> tuple:
+    """(trailing, leading) offset over delta of the fixed grid's edges ``r`` as a change from
+    its baseline ``b`` (the same grid and period at OFFSET_BASE_CELLS: the fits' own sub-cell
+    noise cancels), against the same change of the reference (``ref``, ``ref0``) or, where
+    ``ref`` is None, of the slow-sliding theory (the trailing edge in by delta, the leading
+    one unchanged: ``ViscoelasticFilm.slow_shift``).  Positive: moved toward +x."""
+    (t, ld), (t0, l0) = _edge_pair(r), _edge_pair(b)
+    if ref is None:
+        true_t, true_l = delta - delta0, 0.0
+    else:
+        (rt, rl), (rt0, rl0) = _edge_pair(ref), _edge_pair(ref0)
+        true_t, true_l = rt - rt0, rl - rl0
+    return ((t - t0) - true_t) / delta, ((ld - l0) - true_l) / delta
+
+
+def part_offset_range(quick: bool, out, t0, weights=None, scenes=None) -> list[dict]:
+    """Tenth session: the fitted edges' offsets from far below a cell to a few cells (the
+    measures of ``_LineSolve.layer_offset``): single terms E_1 = 3, 10 E_inf (``weights``:
+    --heavy-weights) on ``OFFSET_SCENES``, at the speeds giving l/dx = ``OFFSET_CELLS`` on the
+    coarsest of four fixed grids (the elastic solve's at tol 1e-4 and 2, 4, 8 times it; three
+    grids up to it where it has more than 8192 points) over the elastic solve's period, each
+    as a change from a baseline at l/dx = OFFSET_BASE_CELLS on the same grid (``_layer_change``),
+    against 2^19 points on the period (2^21 where the elastic grid has more than 8192 points)
+    where those resolve l (l/dx there >= OFFSET_RESOLVED), else the slow-sliding theory
+    (``ref_vs_slow``: the two where both are computed); also the raw a, x_c errors against the
+    reference, as the seventh session's heavy_offset.  ``scenes`` (--offset-scenes): some of
+    ``OFFSET_SCENES`` alone (their table gets their names' suffix)."""
+    from spectral_contact.solvers.fft import _LineSolve
+    films = tuple(weights) if weights else ((10.0,) if quick else (3.0, 10.0))
+    names = scenes or (["paper", "aH/h=1"] if quick else list(OFFSET_SCENES))
+    cells = (0.01, 0.3, 2.0) if quick else OFFSET_CELLS
+    h = FILM["thickness"]
+    rows = []
+    n = len(films) * len(names) * len(cells)
+    for name in names:
+        load, mu = _offset_scene(name)
+        el = solve(load=load, mu=mu, tol=1e-4, **FILM)
+        L, N_el = el.domain_length * h, el.grid_points
+        grids = ([N_el, 2 * N_el, 4 * N_el, 8 * N_el] if N_el <= 8192
+                 else [N_el // 4, N_el // 2, N_el])
+        if quick:
+            grids = grids[:2]
+        n_ref = (2**17 if quick else 2**19) if N_el <= 8192 else (2**19 if quick else 2**21)
+        for w in films:
+            def kw(V, w=w):
+                return dict(load=load, mu=mu, speed=V, prony=((w * E_INF, TAU),), **FILM)
+
+            def speed(x, w=w):  # V for l/dx = x on the coarsest grid
+                return x * el.domain_length / grids[0] * h / ((1.0 + w) * TAU)
+            V0 = speed(OFFSET_BASE_CELLS)
+            ref0 = solve(**kw(V0), grid_points=n_ref, domain_length=L)
+            base = {N: solve(**kw(V0), grid_points=N, domain_length=L) for N in grids}
+            for x in cells:
+                V = speed(x)
+                lam = V * TAU / h
+                delta, delta0, lr = w * lam, w * V0 * TAU / h, (1.0 + w) * lam
+                try:
+                    ref = solve(**kw(V), grid_points=n_ref, domain_length=L)
+                except ConvergenceError:
+                    ref = None
+                resolved = ref is not None and lr / (el.domain_length / n_ref) >= OFFSET_RESOLVED
+                for N in grids:
+                    dx = el.domain_length / N
+                    try:
+                        r = solve(**kw(V), grid_points=N, domain_length=L)
+                    except ConvergenceError as exc:
+                        rows.append({"scene": name, "w": w, "speed_m_per_s": V, "grid_points": N,
+                                     "failed": f"{exc}"[:80]})
+                        continue
+                    tr, ld = _layer_change(r, base[N], ref if resolved else None, ref0, delta,
+                                           delta0)
+                    slow = (_layer_change(r, base[N], None, ref0, delta, delta0)[0]
+                            if ref is not None else math.nan)
+                    total = abs(tr) + abs(ld)
+                    bound = _LineSolve.layer_offset(lr / dx) if lam < _LineSolve.LAYER_CELLS * dx \
+                        else 0.0
+                    rows.append({
+                        "scene": name, "w": w, "speed_m_per_s": V, "grid_points": N,
+                        "V_tau_over_dx": lam / dx, "l_over_dx": lr / dx, "delta_over_dx": delta / dx,
+                        "delta_over_a": delta / el.half_width,
+                        "reference": "resolved" if resolved else "slow theory",
+                        "trailing_offset_over_delta": tr, "leading_offset_over_delta": ld,
+                        "offsets_sum_over_delta": total,
+                        "trailing_resolved_minus_slow": (tr - slow) if resolved else math.nan,
+                        "bound_over_delta": bound,
+                        "old_bound_over_delta": _LineSolve.LAYER_OFFSET * min(1.0, dx / lr)
+                        if lam < dx else 0.0,
+                        "within": bool(total <= bound) if bound else True,
+                        "a_error_raw": (abs(r.half_width - ref.half_width) / ref.half_width
+                                        if ref is not None else math.nan),
+                        "center_error_raw": (abs(r.center - ref.center) / ref.half_width
+                                             if ref is not None else math.nan),
+                        "failed": ""})
+                progress(len(rows) // len(grids), n, f"{name} w={w:g} l/dx={x:g}", t0)
+    full = max(rows, key=len)  # (a failed row: the others' columns, nan)
+    rows = [{**{k: math.nan for k in full}, **r} for r in rows]
+    suffix = _weights_suffix(weights) + ("_" + "_".join(
+        n.replace("aH/h=", "aH").replace(" ", "") for n in scenes) if scenes else "")
+    table(rows, out / f"viscoelastic_offset_range{suffix}.csv",
+          "the fitted edges' offsets over delta, as changes from l/dx 1e-5 on the same grid, "
+          "against 2^19-2^21 points (resolved) or the slow-sliding theory; bound: "
+          "_LineSolve.layer_offset (tenth session), old: 0.1 min(1, dx/l)")
+    return rows
+
+
+def part_offset_phase(quick: bool, out, t0) -> list[dict]:
+    """Tenth session: the offsets against the edge's phase in its cell at fixed l/dx: the
+    period of the fixed grid stretched by up to one cell at the trailing edge (16 periods; 4
+    with --quick), each solve as a change from its baseline (``_layer_change``) against one
+    2^19-point solve at the elastic period (the slow theory below l/dx 0.05); per (scene, w,
+    N, l/dx) the range over the phases, the largest sum against ``layer_offset``."""
+    from spectral_contact.solvers.fft import _LineSolve
+    cases = [("aH/h=1", 10.0, 4096, (0.01, 0.1, 0.2, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0, 2.8, 4.0,
+                                     5.6, 8.0, 11.0)),
+             ("paper", 10.0, 2048, (0.01, 0.1, 0.2, 0.5, 1.0, 1.4, 2.0, 2.8, 4.0, 5.6, 8.0, 11.0)),
+             ("aH/h=0.3", 3.0, 4096, (0.01, 0.1, 0.2, 0.5, 1.0, 1.4, 2.0, 2.8, 3.5)),
+             ("aH/h=1 mu0.5", 10.0, 4096, (0.01, 0.2, 1.0, 1.4, 2.0, 2.8, 4.0, 5.6, 8.0, 11.0)),
+             ("aH/h=3", 10.0, 2048, (0.01, 0.2, 1.0, 1.4, 2.0, 2.8, 4.0, 5.6, 8.0, 11.0))]
+    K = 4 if quick else 16
+    if quick:
+        cases = [("aH/h=1", 10.0, 4096, (0.01, 2.0))]
+    h = FILM["thickness"]
+    rows = []
+    n = sum(len(c[3]) for c in cases)
+    for name, w, N, xs in cases:
+        load, mu = _offset_scene(name)
+        el = solve(load=load, mu=mu, tol=1e-4, **FILM)
+        L0 = el.domain_length
+        sweep = L0 / abs(el.center - el.half_width)  # one cell at the trailing edge
+
+        def kw(V, L, n, w=w):
+            return dict(load=load, mu=mu, speed=V, prony=((w * E_INF, TAU),), grid_points=n,
+                        domain_length=L * h, **FILM)
+        for x in xs:
+            V = x * L0 / N * h / ((1.0 + w) * TAU)
+            V0 = OFFSET_BASE_CELLS * L0 / N * h / ((1.0 + w) * TAU)
+            delta, delta0 = w * V * TAU / h, w * V0 * TAU / h
+            ref = ref0 = None
+            if x >= 0.05:
+                n_ref = 2**17 if quick else 2**19
+                ref, ref0 = solve(**kw(V, L0, n_ref)), solve(**kw(V0, L0, n_ref))
+            trs, lds = [], []
+            for k in range(K):
+                L = L0 * (1.0 + k / K * sweep / N)
+                tr, ld = _layer_change(solve(**kw(V, L, N)), solve(**kw(V0, L, N)), ref, ref0,
+                                       delta, delta0)
+                trs.append(tr)
+                lds.append(ld)
+            trs, lds = np.array(trs), np.array(lds)
+            total = np.abs(trs) + np.abs(lds)
+            bound = _LineSolve.layer_offset(x) if x < 1.0 + w else 0.0
+            rows.append({"scene": name, "w": w, "grid_points": N, "l_over_dx": x, "phases": K,
+                         "trailing_min": float(trs.min()), "trailing_max": float(trs.max()),
+                         "leading_min": float(lds.min()), "leading_max": float(lds.max()),
+                         "sum_max": float(total.max()), "sum_mean": float(total.mean()),
+                         "x_c_max": float(np.abs(trs + lds).max() / 2),
+                         "a_max": float(np.abs(trs - lds).max() / 2),
+                         "bound": bound, "old_bound": 0.1 * min(1.0, 1.0 / x),
+                         "within": bool(total.max() <= bound) if bound else True})
+            progress(len(rows), n, f"{name} w={w:g} l/dx={x:g}: sum max {total.max():.3f}", t0)
+    table(rows, out / "viscoelastic_offset_phase.csv",
+          "the fitted edges' offsets over delta against the edge's phase (the period swept by "
+          "one cell at the trailing edge): ranges over the phases, the largest sum against "
+          "_LineSolve.layer_offset (tenth session)")
     return rows
 
 
@@ -939,7 +1133,7 @@ def part_second(quick: bool, out, t0) -> list[dict]:
 
 PARTS = ("speed", "sphere", "sphere_cost", "sphere_fitted", "sphere_beyond_cost", "reference",
          "claim", "figure", "estimate", "images", "second", "edge_layer", "edge_range",
-         "heavy_terms", "heavy_offset")
+         "heavy_terms", "heavy_offset", "offset_range", "offset_phase")
 
 
 def _forces(text: str) -> tuple:
@@ -950,6 +1144,19 @@ def _forces(text: str) -> tuple:
 def _weights(text: str) -> tuple:
     """--heavy-weights: E_1/E_inf of single Prony terms."""
     return float_list(text, "--heavy-weights", "weights E_1/E_inf > 0")
+
+
+def _offset_scenes(text: str):
+    """--offset-scenes: a comma list of OFFSET_SCENES' names (None: all); one line and exit 2
+    naming the option otherwise."""
+    if not text:
+        return None
+    names = text.split(",")
+    if not all(n in OFFSET_SCENES for n in names):
+        print(f"--offset-scenes must be a comma list of {', '.join(OFFSET_SCENES)}; got "
+              f"{text!r}", file=sys.stderr)
+        raise SystemExit(2)
+    return names
 
 
 def main(argv=None) -> int:
@@ -965,13 +1172,17 @@ def main(argv=None) -> int:
                        help="sphere_beyond_cost: comma list of tolerances (default 1e-2,5e-3,1e-3)")
         p.add_argument("--sphere-forces", default="1",
                        help="sphere_beyond_cost: comma list of the sphere's loads [N] (default 1)")
+        p.add_argument("--offset-scenes", default="",
+                       help="offset_range: comma list of its scenes to run alone (default all: "
+                            + ", ".join(OFFSET_SCENES) + ")")
         p.add_argument("--heavy-weights", default="",
-                       help="heavy_terms, heavy_offset: comma list of single terms' weights "
+                       help="heavy_terms, heavy_offset, offset_range: comma list of single terms' weights "
                             "E_1/E_inf to run instead of the default films (e.g. 30,100)")
 
     args, out = parse(argv, __doc__.splitlines()[0], "out/viscoelastic", extra=extra)
     parts = args.parts.split(",")
     weights = _weights(args.heavy_weights) if args.heavy_weights else None
+    offset_scenes = _offset_scenes(args.offset_scenes)  # (checked before any part runs)
     t0 = time.perf_counter()
     if "speed" in parts:
         part_speed(args.quick, out, t0)
@@ -1011,6 +1222,10 @@ def main(argv=None) -> int:
         part_heavy_terms(args.quick, out, t0, weights)
     if "heavy_offset" in parts:
         part_heavy_offset(args.quick, out, t0, weights)
+    if "offset_range" in parts:
+        part_offset_range(args.quick, out, t0, weights, offset_scenes)
+    if "offset_phase" in parts:
+        part_offset_phase(args.quick, out, t0)
     return 0
 
 

@@ -137,6 +137,67 @@ def test_layer_bias_bounds_the_trailing_offset():
     assert err <= r.error_estimate <= 1e-4
 
 
+def _layer_offsets(x, grid_points, period, w=10.0):
+    """a_H/h 1 (mu 0), E_1 = w E_inf at l/dx = ``x`` on a fixed grid: the changes of a and x_c
+    (over a) from the same grid at l/dx 1e-5 less the slow-sliding theory's (-delta/2, +delta/2),
+    over delta/a; delta/a; and the solve (the fits' own sub-cell noise cancels in the change)."""
+    from studies.viscoelastic import FILM, load_for
+    h = FILM["thickness"]
+    cell = period / grid_points * h / ((1.0 + w) * TAU)  # speed per unit l/dx
+    kw = dict(load=load_for(1.0), mu=0.0, prony=((w * E_INF, TAU),), grid_points=grid_points,
+              domain_length=period * h, **FILM)
+    r, b = solve(speed=x * cell, **kw), solve(speed=1e-5 * cell, **kw)
+    delta, delta0 = w * x * cell * TAU / h, w * 1e-5 * cell * TAU / h
+    a = r.half_width
+    da = abs((r.half_width - b.half_width) + 0.5 * (delta - delta0)) / delta
+    dc = abs((r.center - b.center) - 0.5 * (delta - delta0)) / delta
+    return da, dc, delta / a, r
+
+
+@pytest.mark.parametrize("x", [0.01, 0.001])
+def test_layer_offset_below_a_cell_tends_to_a_constant_past_the_old_bound(x):
+    """Tenth session (studies/README, **the trailing offset below a cell**): with the
+    retardation length far below a cell the grid sees the film as its compliance translated by
+    delta, and the fitted edges keep an offset that is delta times a function of the edge's
+    phase in its cell, not one that vanishes with l/dx.  Here (a_H/h 1, 4096 points on a period
+    of 20.50568 h, the trailing edge 0.68 cells past a node: 0.18 delta inward, the leading
+    edge 0.06 delta outward) x_c is 0.12 delta/a off at l/dx 0.01 and 0.001 alike: past the
+    old bound LAYER_OFFSET delta/2a = 0.05 delta/a (2.4 times), within ``layer_bias`` now
+    (LAYER_SUBCELL delta/2a = 0.15 delta/a)."""
+    da, dc, rel, r = _layer_offsets(x, 4096, 20.50568)
+    assert dc == pytest.approx(0.1214, abs=2e-3)  # the same at both l/dx: the limit
+    assert max(da, dc) * rel <= r.info["estimate_parts"]["layer_bias"]
+    assert dc > 2.0 * 0.1 / 2.0  # the old bound's 0.05 delta/a, passed
+
+
+def test_layer_offset_beyond_a_cell_within_the_tighter_bound():
+    """Beyond a cell the offsets fall faster than dx/l (tenth session: the sum of both edges'
+    offsets 0.0088 delta at most over 16 phases at l/dx 4, a_H/h 1, E_1 = 10 E_inf, 4096
+    points; 0.0128 on the paper's scene, the largest): ``layer_offset`` takes 0.0149 there
+    (the old bound 0.025), and the estimate's ``layer_bias`` bounds a and x_c on four phases
+    (the period stretched by a quarter cell at the trailing edge each), the true change from
+    2^19 points."""
+    from spectral_contact.solvers.fft import _LineSolve
+    from studies.viscoelastic import FILM, load_for
+    h, w, N, x = FILM["thickness"], 10.0, 4096, 4.0
+    L0 = 20.456982878168795  # the elastic solve's period at tol 1e-4
+    cell = L0 / N * h / ((1.0 + w) * TAU)
+    kw = dict(load=load_for(1.0), mu=0.0, prony=((w * E_INF, TAU),), **FILM)
+    fine = [solve(speed=s * cell, grid_points=2**19, domain_length=L0 * h, **kw)
+            for s in (x, 1e-5)]
+    true_a = fine[0].half_width - fine[1].half_width
+    true_c = fine[0].center - fine[1].center
+    assert _LineSolve.layer_offset(x) == pytest.approx(0.01487, abs=1e-5)
+    for k in range(4):
+        L = L0 * (1.0 + k / 4.0 * (L0 / 0.7923) / N)
+        r, b = (solve(speed=s * cell, grid_points=N, domain_length=L * h, **kw)
+                for s in (x, 1e-5))
+        a = r.half_width
+        err = max(abs((r.half_width - b.half_width) - true_a),
+                  abs((r.center - b.center) - true_c)) / a
+        assert err <= r.info["estimate_parts"]["layer_bias"]
+
+
 def test_corrected_edges_solve_where_the_uncorrected_levels_stagnated():
     """E_1 = 3 E_inf, a_H/h 3 at 0.32 m/s, tol 1e-4: with the uncorrected edge fits the levels
     stagnated (estimate 9.7e-5 at 1024 points, still 1.2e-4 at 8192: exit 3; found by
@@ -205,6 +266,18 @@ def test_heavy_weights_option_refuses_bad_input(tmp_path, capsys):
             main(["--parts", "heavy_offset", "--heavy-weights", bad, "--out", str(tmp_path)])
         assert exc.value.code == 2
         assert "--heavy-weights must be" in capsys.readouterr().err
+
+
+def test_offset_scenes_option_refuses_bad_input(tmp_path, capsys):
+    """studies.viscoelastic --offset-scenes (tenth session): one line naming the option and
+    exit 2 for a name that is not one of offset_range's scenes, before any solve."""
+    from studies.viscoelastic import main
+
+    for bad in ("aH/h=2", "paper,aH/h=1 mu2"):
+        with pytest.raises(SystemExit) as exc:
+            main(["--parts", "offset_range", "--offset-scenes", bad, "--out", str(tmp_path)])
+        assert exc.value.code == 2
+        assert "--offset-scenes must be" in capsys.readouterr().err
 
 
 def test_a_travelling_active_set_defect_is_filled_at_once(monkeypatch):

@@ -320,9 +320,10 @@ def _level_sizes(L, a, tol, grid_points, domain_length, edge_scales=(), layer_sc
     that may stop; half that on the second, a quarter on the first).  ``layer_scales``: the
     fitted terms whose trailing edge keeps an offset while |V| tau_i spans fewer than
     ``_LineSolve.LAYER_CELLS`` cells (``_LineSolve.layer_bias``); one whose bound on coarse
-    cells (LAYER_OFFSET weight x width / 2a) is above VISCO_EDGE_SHARE tol has the third level's
-    cell at most its retardation length (1 + weight) width, from where the bound falls as dx
-    (so that the levels do not stagnate on its constant part)."""
+    cells (LAYER_SUBCELL weight x width / 2a) is above VISCO_EDGE_SHARE tol has the third level's
+    cell at most its retardation length (1 + weight) width over ``_LineSolve.layer_cells`` (at
+    most l_i itself: from there the bound falls at least as dx; the levels do not stagnate on
+    its constant part below a tenth of a cell)."""
     if grid_points:
         return [grid_points // 2, grid_points]
     across = max(_FIRST_ACROSS, _EDGE_ERROR / tol)
@@ -336,8 +337,9 @@ def _level_sizes(L, a, tol, grid_points, domain_length, edge_scales=(), layer_sc
                                    f"Prony term heavier than E_i/E_inf = "
                                    f"{_LineSolve.LAYER_FITTED_WEIGHT:g})")
     for width, weight in layer_scales:
-        if _LineSolve.LAYER_OFFSET * weight * width / (2 * a) > VISCO_EDGE_SHARE * tol:
-            n_layer = pow2_at_least(L / (2 * (1.0 + weight) * width), MIN_POINTS)
+        cells = _LineSolve.layer_cells(VISCO_EDGE_SHARE * tol * 2 * a / (weight * width))
+        if cells > 0.0:
+            n_layer = pow2_at_least(cells * L / (2 * (1.0 + weight) * width), MIN_POINTS)
             if n_layer > n1:
                 n1, why = n_layer, (f"the trailing-edge offset of a Prony term E_i/E_inf = "
                                     f"{weight:.3g} (cells down to its retardation length "
@@ -488,9 +490,49 @@ class _LineSolve:
     # l_i/dx (l_i = (1 + E_i/E_inf) |V| tau_i, the retardation length): 0.09 (w = 1, l/dx 0.1),
     # 0.06-0.07 (w = 3, 10 at 0.14-0.2), 0.03-0.04 (0.3-0.6), 0.015-0.033 (1.2), 0.009 (2.3),
     # 0.005 (4.7); the leading edge within 0.005 delta.  One sign over the levels: the levels'
-    # differences miss it.  Bounded by LAYER_OFFSET min(1, dx/l_i) (``layer_bias``)
-    LAYER_OFFSET = 0.1
+    # differences miss it.  Bounded by LAYER_OFFSET min(1, dx/l_i) (``layer_bias``) until the
+    # tenth session, which measured below a cell and beyond (``layer_offset``)
+    LAYER_OFFSET = 0.1  # the bound at l_i = dx (``layer_offset``)
     LAYER_CELLS = 1.0
+    # tenth session (studies/README, **the trailing offset below a cell**): the sum of both
+    # edges' offsets over delta_i, as a change from the same grid at l/dx = 1e-5 (the fits'
+    # own sub-cell noise cancelled) against 2^19-2^21 points on the period (or the slow-sliding
+    # theory where those do not resolve l), E_1 = 3, 10 E_inf on a_H/h 0.1, 0.3, 1, 3 (mu 0,
+    # 0.5) and the paper's scene, l/dx 1e-4 ... 11, the edge's phase in its cell swept by the
+    # period (16 phases, 64 below a cell) on five scenes.  As l/dx -> 0 the offset does not
+    # vanish: it tends to delta_i times a function of the edge's phase (the grid sees R(k) =
+    # 1 + i k delta_i, the collocation's compliance translated by a fraction of a cell, and
+    # the fits' error moves with that translation): trailing -0.10 ... +0.19, leading +0.05
+    # ... +0.06 (0.09 at one phase), their sum up to 0.25 (l/dx 0.01 and 0.001 alike; 0.18
+    # at 0.1, 0.17 at 0.2, 0.11 at 0.5, 0.084 at 1), past the old 0.1 below l/dx 0.2.  Beyond
+    # a cell it falls faster than dx/l: 0.060 (l/dx 1.4), 0.039 (2), 0.023 (2.8), 0.013 (4),
+    # 0.0062 (5.6), 0.0030 (8), 0.0016 (11).  LAYER_SUBCELL below LAYER_OFFSET (l/dx)^-1/2,
+    # then LAYER_OFFSET dx/l up to LAYER_FALL_FROM cells, then (LAYER_OFFSET /
+    # LAYER_FALL_FROM) (LAYER_FALL_FROM dx/l)^LAYER_FALL: 1.16-1.5 times the largest measured
+    # sum at every l/dx from 1 on, 1.2 below a tenth of a cell
+    LAYER_SUBCELL = 0.3
+    LAYER_FALL_FROM = 2.0
+    LAYER_FALL = 1.75
+
+    @classmethod
+    def layer_offset(cls, cells: float) -> float:
+        """Bound of the sum of a fitted term's two edges' offsets over its delta_i, at
+        ``cells`` = l_i/dx (tenth session's measurement, class comment)."""
+        if cells <= 1.0:
+            return min(cls.LAYER_SUBCELL, cls.LAYER_OFFSET / math.sqrt(max(cells, 1e-300)))
+        if cells <= cls.LAYER_FALL_FROM:
+            return cls.LAYER_OFFSET / cells
+        return (cls.LAYER_OFFSET / cls.LAYER_FALL_FROM
+                * (cls.LAYER_FALL_FROM / cells) ** cls.LAYER_FALL)
+
+    @classmethod
+    def layer_cells(cls, allowed: float) -> float:
+        """The l_i/dx from which ``layer_offset`` is at most ``allowed``, up to 1 (the third
+        level's cell; from there the levels' own refinement lowers it): 0 when it never passes
+        ``allowed``."""
+        if allowed >= cls.LAYER_SUBCELL:
+            return 0.0
+        return min(1.0, (cls.LAYER_OFFSET / allowed) ** 2)
 
     def unfitted_edge_scales(self) -> list:
         """The viscoelastic film's edge structures (|V| tau_i, E_i/E_inf) that the grid resolves
@@ -520,10 +562,9 @@ class _LineSolve:
     def layer_bias(self, a: float, dx: float) -> float:
         """Bound of the fitted trailing edge's offset on a grid of spacing ``dx`` relative to
         the half-width ``a`` (a and x_c move by half an edge's offset each): the sum of
-        LAYER_OFFSET min(1, dx/l_i) delta_i / (2 a) over ``layer_scales`` with |V| tau_i <
+        ``layer_offset``(l_i/dx) delta_i / (2 a) over ``layer_scales`` with |V| tau_i <
         LAYER_CELLS dx (delta_i = E_i/E_inf |V| tau_i, l_i = (1 + E_i/E_inf) |V| tau_i)."""
-        return sum(self.LAYER_OFFSET * min(1.0, dx / ((1.0 + weight) * width)) * weight
-                   * width / (2.0 * a)
+        return sum(self.layer_offset((1.0 + weight) * width / dx) * weight * width / (2.0 * a)
                    for width, weight in self.layer_scales() if width < self.LAYER_CELLS * dx)
 
     @property
