@@ -238,7 +238,11 @@ import sys, time
 import spectral_contact.cli.plots as plots
 from spectral_contact.cli.main import main
 def slow(result, path, sensor=None):
-    path.write_bytes(b"partial"); print("ready", flush=True); time.sleep(60)
+    path.write_bytes(b"partial"); print("ready", flush=True)
+    # short sleeps: a process-directed signal may land on another thread (the progress
+    # timer's), which does not interrupt the main thread's sleep, only its next bytecode
+    for _ in range(1200):
+        time.sleep(0.05)
 plots.plot_result = slow
 sys.exit(main(["solve", "--tol", "1e-3", "--profiles", "p.csv", "--plot", "p.png"]))
 """
