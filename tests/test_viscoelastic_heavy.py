@@ -167,7 +167,7 @@ def test_layer_offset_below_a_cell_tends_to_a_constant_past_the_old_bound(x):
     da, dc, rel, r = _layer_offsets(x, 4096, 20.50568)
     assert dc == pytest.approx(0.1214, abs=2e-3)  # the same at both l/dx: the limit
     assert max(da, dc) * rel <= r.info["estimate_parts"]["layer_bias"]
-    assert dc > 2.0 * 0.1 / 2.0  # the old bound's 0.05 delta/a, passed
+    assert dc > 2.0 * 0.1 / 2.0  # twice the old bound's 0.05 delta/a, passed
 
 
 def test_layer_offset_beyond_a_cell_within_the_tighter_bound():

@@ -342,8 +342,9 @@ def _level_sizes(L, a, tol, grid_points, domain_length, edge_scales=(), layer_sc
             n_layer = pow2_at_least(cells * L / (2 * (1.0 + weight) * width), MIN_POINTS)
             if n_layer > n1:
                 n1, why = n_layer, (f"the trailing-edge offset of a Prony term E_i/E_inf = "
-                                    f"{weight:.3g} (cells down to its retardation length "
-                                    f"{(1.0 + weight) * width:.2g} h)")
+                                    f"{weight:.3g} (cells down to "
+                                    f"{(1.0 + weight) * width / cells:.2g} h; its retardation "
+                                    f"length {(1.0 + weight) * width:.2g} h)")
     # the third level (2 n1), the first whose estimate may stop the refinement, must fit: say
     # so before allocating anything (a grid of 2^21 used to run two levels for ~15 s and stop
     # with exit 3, its estimate below tol but one level short)
@@ -489,7 +490,8 @@ class _LineSolve:
     # = E_i/E_inf |V| tau_i, the term's first-order shift of that edge), f a function of
     # l_i/dx (l_i = (1 + E_i/E_inf) |V| tau_i, the retardation length): 0.09 (w = 1, l/dx 0.1),
     # 0.06-0.07 (w = 3, 10 at 0.14-0.2), 0.03-0.04 (0.3-0.6), 0.015-0.033 (1.2), 0.009 (2.3),
-    # 0.005 (4.7); the leading edge within 0.005 delta.  One sign over the levels: the levels'
+    # 0.005 (4.7); the leading edge within 0.005 delta (the tenth session: +0.05 ... +0.06
+    # delta far below a cell, at every phase).  One sign over the levels: the levels'
     # differences miss it.  Bounded by LAYER_OFFSET min(1, dx/l_i) (``layer_bias``) until the
     # tenth session, which measured below a cell and beyond (``layer_offset``)
     LAYER_OFFSET = 0.1  # the bound at l_i = dx (``layer_offset``)
@@ -537,8 +539,9 @@ class _LineSolve:
     def unfitted_edge_scales(self) -> list:
         """The viscoelastic film's edge structures (|V| tau_i, E_i/E_inf) that the grid resolves
         (``_level_sizes``) and the estimate bounds where it does not (``fft_driver.estimate``):
-        the terms heavier than LAYER_FITTED_WEIGHT, or every term in ``solve_fft``'s fallback;
-        none on an elastic film."""
+        the terms heavier than LAYER_FITTED_WEIGHT with those of nearby tau
+        (``ViscoelasticFilm.merged_weights``), or every term in ``solve_fft``'s fallback; none
+        on an elastic film."""
         if not self.prob.visco:
             return []
         film = self.prob.film
@@ -550,9 +553,9 @@ class _LineSolve:
 
     def layer_scales(self) -> list:
         """(|V| tau_i, E_i/E_inf) of the fitted terms heavier than LAYER_BIAS_WEIGHT: their
-        fitted trailing edge keeps an offset up to LAYER_OFFSET delta_i while |V| tau_i spans
-        fewer than LAYER_CELLS cells (``layer_bias``; resolved to that by ``_level_sizes``
-        where it would take more than VISCO_EDGE_SHARE tol)."""
+        fitted edges keep offsets up to ``layer_offset``(l_i/dx) delta_i (both edges' sum)
+        while |V| tau_i spans fewer than LAYER_CELLS cells (``layer_bias``; the cells refined
+        by ``_level_sizes`` where that would take more than VISCO_EDGE_SHARE tol)."""
         if not self.prob.visco or self.resolve_edges:
             return []
         film = self.prob.film
@@ -560,7 +563,7 @@ class _LineSolve:
                 if self.LAYER_BIAS_WEIGHT < wt and merged <= self.LAYER_FITTED_WEIGHT]
 
     def layer_bias(self, a: float, dx: float) -> float:
-        """Bound of the fitted trailing edge's offset on a grid of spacing ``dx`` relative to
+        """Bound of the fitted edges' offsets (both edges' sum) on a grid of spacing ``dx`` relative to
         the half-width ``a`` (a and x_c move by half an edge's offset each): the sum of
         ``layer_offset``(l_i/dx) delta_i / (2 a) over ``layer_scales`` with |V| tau_i <
         LAYER_CELLS dx (delta_i = E_i/E_inf |V| tau_i, l_i = (1 + E_i/E_inf) |V| tau_i)."""
