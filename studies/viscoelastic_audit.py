@@ -141,14 +141,21 @@ def _mirror_change_line(r, m) -> float:
                abs(m.info["pressure_centroid"] + r.info["pressure_centroid"]) / a)
 
 
+def _solve_or_refused(kw: dict):
+    """(result, None), or (None, the row of a refused solve: the claim kept)."""
+    try:
+        return solve(**kw), None
+    except (InputError, ConvergenceError) as exc:
+        return None, {"refused": type(exc).__name__ + ": " + str(exc).splitlines()[0][:100]}
+
+
 def audit_line(sc: dict, quick: bool) -> dict:
     kw = sc["kw"]
     tol = kw["tol"]
     row: dict = {}
-    try:
-        r = solve(**kw)
-    except (InputError, ConvergenceError) as exc:  # refused: the claim kept
-        return {"refused": type(exc).__name__ + ": " + str(exc).splitlines()[0][:100]}
+    r, refused = _solve_or_refused(kw)
+    if refused:
+        return refused
     d = r.to_dict()
     row |= {"grid_points": r.grid_points, "period_h": r.domain_length,
             "error_estimate": r.error_estimate, "estimate_over_tol": r.error_estimate / tol,
@@ -208,10 +215,9 @@ def audit_sphere(sc: dict, quick: bool) -> dict:
     kw = sc["kw"]
     tol = kw["tol"]
     row: dict = {}
-    try:
-        r = solve(**kw)
-    except (InputError, ConvergenceError) as exc:  # refused: the claim kept
-        return {"refused": type(exc).__name__ + ": " + str(exc).splitlines()[0][:100]}
+    r, refused = _solve_or_refused(kw)
+    if refused:
+        return refused
     d = r.summary()
     (nx, ny), (Lx, Ly) = r.grid_points, r.domain_length
     row |= {"grid_points": f"{nx}x{ny}", "period_h": f"{Lx:.3g}x{Ly:.3g}",
