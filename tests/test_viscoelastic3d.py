@@ -209,3 +209,20 @@ def test_sphere_levels_study_the_elastic_grid_within_tol_and_certified(tmp_path)
     assert {r["measure"] for r in fine} == {"radius", "x_c", "d", "line_load_y0", "p_max"}
     assert max(float(r["error_grid"]) for r in fine) < 1e-3
     assert max(float(r["level_difference"]) for r in fine) < 1e-3
+
+
+def test_sphere_cost_study_times_both_elastic_limits(tmp_path):
+    """``studies.viscoelastic_sphere --parts cost`` on one point (SLS, mu 0, 1 mm/s): the
+    ratio against the relaxed film's elastic sphere (``--speed 0``) and against the glassy
+    film's (E_0 = 2 E_inf), whose smaller contact needs at least the relaxed one's grid."""
+    import csv
+
+    from studies.viscoelastic_sphere import main as sphere_main
+
+    assert sphere_main(["--parts", "cost", "--films", "SLS", "--mus", "0", "--speeds", "1e-3",
+                        "--out", str(tmp_path)]) == 0
+    (path,) = tmp_path.glob("viscoelastic_sphere_beyond_cost*.csv")
+    (row,) = list(csv.DictReader(open(path)))
+    assert row["status"] == "ok"
+    assert float(row["time_ratio"]) > 0 and float(row["time_ratio_glassy"]) > 0
+    assert int(row["grid_x_glassy"]) >= int(row["grid_x_elastic"])
