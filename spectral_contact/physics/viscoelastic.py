@@ -582,12 +582,12 @@ class ViscoelasticFilm(Film):
         return [(abs(self.speed) * t, e / self.relaxed_young) for e, t in self.prony]
 
     # (``merged_weights``, module level) terms whose relaxation times lie within this factor
-    # of each other are one heavy term for
-    # the edge fits: three terms of 10 E_inf at tau/c, tau, c tau (a_H/h 0.3, mu 0, 0.17
-    # mm/s, tol 1e-2; studies/README, viscoelastic, audit, tenth session) were not carried by
-    # the fits at c = 1, 1.5, 2, 3.16 (c = 1, the same film as one 30 E_inf term, stopped 23 %
-    # off in p_max under an estimate of 8.8e-3; from 1.5 the levels stagnated and the resolved
-    # retry solved it) and were at c = 5, 10
+    # of each other are one heavy term for the edge fits: three terms of 10 E_inf at tau/c,
+    # tau, c tau (a_H/h 0.3, mu 0, 0.17 mm/s, tol 1e-2) were not carried by the fits at c = 1,
+    # 1.5, 2, 3.16 (c = 1, the same film as one 30 E_inf term, stopped 23 % off in p_max under
+    # an estimate of 8.8e-3; from 1.5 the levels stagnated and the resolved retry solved it)
+    # and were at c = 5, 10 (the audit, at c = 4.5 and 5, a_H/h 0.3 and 1, 7 speeds: 28 of 28
+    # bounded; studies/README, viscoelastic, an audit of the estimates, tenth session)
     MERGE_FACTOR = MERGE_FACTOR
 
     def merged_weights(self) -> list[float]:
