@@ -166,12 +166,17 @@ def _check_size(shape, what: str) -> None:
                          f"{have / 1e9:.1f} GB available: raise tol or fix smaller grid_points")
 
 
+def _radius(q) -> float:
+    """The contact radius sqrt(A/pi) of a level's measures ``q``."""
+    return math.sqrt(max(q["area"], 0.0) / math.pi)
+
+
 def _difference(q, r, singular_peak: bool = False) -> float:
     """Relative difference of two levels' controlled measures: contact radius sqrt(A/pi),
     pressure centroid (relative to the radius), indentation, line load at y = 0 and peak
     pressure (left out where it is singular: sharp ends)."""
-    rad = max(math.sqrt(max(q["area"], 0.0) / math.pi), 1e-300)
-    r_rad = math.sqrt(max(r["area"], 0.0) / math.pi)
+    rad = max(_radius(q), 1e-300)
+    r_rad = _radius(r)
     out = max(abs(rad - r_rad) / rad, abs(q["xc"] - r["xc"]) / rad,
               abs(q["indentation"] - r["indentation"]) / max(abs(q["indentation"]), 1e-300),
               abs(q["line_load_y0"] - r["line_load_y0"]) / max(abs(q["line_load_y0"]), 1e-300))
@@ -205,10 +210,6 @@ _CANCELLED = 4.0
 _PRESSURE_FIT_CELLS = 0.03
 
 
-def _radius(q) -> float:
-    return math.sqrt(max(q["area"], 0.0) / math.pi)
-
-
 def _radius_bound(history, cur, from_pressure: bool) -> float:
     """A viscoelastic surface's lower bound of the radius's estimate (the comments above
     _CANCELLED and _PRESSURE_FIT_CELLS): ``history`` the levels [(shape, q)], its last
@@ -224,7 +225,7 @@ def _radius_bound(history, cur, from_pressure: bool) -> float:
 
 def _extent_difference(q, r) -> float:
     """Largest change of the contact's extents between two levels, relative to the radius."""
-    rad = max(math.sqrt(max(q["area"], 0.0) / math.pi), 1e-300)
+    rad = max(_radius(q), 1e-300)
     return max(abs(q[k] - r[k]) for k in ("x_min", "x_max", "y_min", "y_max")) / rad
 
 
@@ -492,7 +493,7 @@ class _SurfaceSolve:
 
     def size(self, q) -> float:
         """The contact radius sqrt(A/pi) (the unresolved viscoelastic edges are relative to it)."""
-        return math.sqrt(q["area"] / math.pi)
+        return _radius(q)
 
     def image_error(self, q, lengths) -> float:
         """0: the periods' decay margin keeps the images ~tol/100, not part of the estimate."""
