@@ -59,8 +59,8 @@ def _verified_weight(dimension: str) -> float:
 def _beyond_verified(scene):
     """What a non-converged viscoelastic solve should be told: its Prony weight beyond the
     verified one (``_verified_weight``; lines: the heaviest term's E_i/E_inf with the terms of
-    nearby tau, surfaces: their
-    sum, E_0/E_inf - 1, as the surfaces' fits are bounded); else None."""
+    nearby tau, surfaces: their sum, E_0/E_inf - 1, as the surfaces' fits are bounded); else
+    None."""
     if not scene.prony or scene.speed == 0.0:
         return None
     line = scene.dimension == "line"
@@ -71,9 +71,9 @@ def _beyond_verified(scene):
     if w <= top * (1.0 + 1e-9):
         return None
     what = "a Prony term E_i/E_inf" if line else "the Prony terms' sum E_0/E_inf - 1"
-    merged = f" (terms within a factor {MERGE_FACTOR:g} in tau counted as one)" if line else ""
+    counted = f" (terms within a factor {MERGE_FACTOR:g} in tau counted as one)" if line else ""
     return (f"{what} = {w:.3g}, beyond the {top:.3g} the "
-            f"viscoelastic solver is verified for{merged}: on films this much stiffer when glassy the "
+            f"viscoelastic solver is verified for{counted}: on films this much stiffer when glassy the "
             f"active set behind the trailing edge may not settle; a lower --speed (slow sliding) "
             f"or a higher one (the glassy film) may solve")
 
